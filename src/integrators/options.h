@@ -1,0 +1,125 @@
+// Every user-facing option of a render, listed once in visit_options(). That single list drives
+// the CLI (--set key=value), JSON configs, --help, the config echo, EXR/JSON metadata and CSV
+// columns. Keys are the dotted struct paths: "path.max_depth" <-> options.path.max_depth.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/option_io.h"
+
+namespace rl {
+
+enum class SamplePattern { center, stratified, halton, msaa, random };
+enum class PixelFilter { box, triangle, gaussian };
+enum class Tonemap { linear, reinhard, modified_reinhard, aces };
+enum class MisHeuristic { balance, power };
+enum class LightSelection { power, uniform };
+
+template <> struct EnumNames<SamplePattern> {
+  static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
+      {SamplePattern::stratified, "stratified"}, {SamplePattern::halton, "halton"}, {SamplePattern::msaa, "msaa"},
+      {SamplePattern::random, "random"}}};
+};
+template <> struct EnumNames<PixelFilter> {
+  static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
+      {{PixelFilter::box, "box"}, {PixelFilter::triangle, "triangle"}, {PixelFilter::gaussian, "gaussian"}}};
+};
+template <> struct EnumNames<Tonemap> {
+  static constexpr std::array<std::pair<Tonemap, const char*>, 4> values{{{Tonemap::linear, "linear"},
+      {Tonemap::reinhard, "reinhard"}, {Tonemap::modified_reinhard, "modified-reinhard"}, {Tonemap::aces, "aces"}}};
+};
+template <> struct EnumNames<MisHeuristic> {
+  static constexpr std::array<std::pair<MisHeuristic, const char*>, 2> values{
+      {{MisHeuristic::balance, "balance"}, {MisHeuristic::power, "power"}}};
+};
+template <> struct EnumNames<LightSelection> {
+  static constexpr std::array<std::pair<LightSelection, const char*>, 2> values{
+      {{LightSelection::power, "power"}, {LightSelection::uniform, "uniform"}}};
+};
+
+struct FilmOptions {
+  int width = 640;
+  int height = 360;
+  PixelFilter filter = PixelFilter::box;
+  float filter_radius = 0.5f;
+};
+
+struct RenderOptions {
+  int spp = 4;
+  uint64_t seed = 0;
+  int frames = 1;
+  int threads = 0;
+  SamplePattern sample_pattern = SamplePattern::halton;
+  LightSelection light_selection = LightSelection::power;
+  std::string camera_path;
+};
+
+struct PathOptions {
+  int max_depth = 5;
+  bool nee = true;
+  bool bsdf_sampling = true;
+  MisHeuristic mis = MisHeuristic::power;
+  bool russian_roulette = true;
+  int rr_min_depth = 3;
+};
+
+struct OutputOptions {
+  Tonemap tonemap = Tonemap::aces;
+  float exposure = 0;
+  float white_point = 4;
+  bool srgb = true;
+};
+
+struct Options {
+  std::string integrator = "pt";
+  FilmOptions film;
+  RenderOptions render;
+  PathOptions path;
+  OutputOptions output;
+};
+
+// The one list. Help texts say what a value means; ranges reject absurd values up front.
+template <class O, class V>
+void visit_options(O& o, V& v) {
+  v("integrator", o.integrator, "integrator: pt (reference path tracer)");
+  v("film.width", o.film.width, "image width in pixels (default: the scene's Film, else this)", Range{1, 16384});
+  v("film.height", o.film.height, "image height in pixels (default: the scene's Film, else this)", Range{1, 16384});
+  v("film.filter", o.film.filter, "pixel reconstruction filter, sampled by filter importance sampling");
+  v("film.filter_radius", o.film.filter_radius, "filter radius in pixels (box: 0.5 = one pixel)", Range{0, 8});
+  v("render.spp", o.render.spp, "samples per pixel per frame", Range{1, 1 << 20});
+  v("render.seed", o.render.seed, "random seed; the same seed and options give the same image");
+  v("render.frames", o.render.frames, "frames in the sequence (camera animation spans them)", Range{1, 100000});
+  v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
+  v("render.sample_pattern", o.render.sample_pattern, "primary-ray positions inside a pixel");
+  v("render.light_selection", o.render.light_selection, "how a light is picked: by emitted power (alias table) or uniformly");
+  v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");
+  v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting)", Range{0, 1024});
+  v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex");
+  v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7)");
+  v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling");
+  v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette on throughput");
+  v("path.rr_min_depth", o.path.rr_min_depth, "first bounce at which Russian roulette may terminate", Range{1, 1024});
+  v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
+  v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
+  v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});
+  v("output.srgb", o.output.srgb, "encode PNG output with the sRGB transfer curve");
+}
+
+// Set one option from text; throws OptionError for an unknown key or a bad value.
+void set_option(Options& o, std::string_view key, std::string_view value);
+// Parse "key=value".
+void set_option_assignment(Options& o, std::string_view assignment);
+// Apply a JSON object: nested objects ({"path": {"max_depth": 3}}) or dotted keys.
+void apply_options_json(Options& o, std::string_view json_text);
+void apply_options_file(Options& o, const std::string& path);
+// Every option in declaration order as (key, value text).
+std::vector<std::pair<std::string, std::string>> option_values(const Options& o);
+// Flat JSON object of every option (the config echo written beside each output).
+std::string options_to_json(const Options& o, int indent = 2);
+std::string options_help();
+// Checks relations between fields that ranges cannot express (pixel count, etc.).
+void validate_options(const Options& o);
+
+}  // namespace rl

@@ -1,0 +1,118 @@
+// The renderer's scene: world-space geometry, materials, lights and the camera (with its animation).
+// Filled by the loaders (pbrt-v4, OBJ, glTF, PLY); knows nothing about integrators or ReSTIR.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "image/image.h"
+
+namespace rl {
+
+// A texture: constant, an image map (bilinear, repeat), or a checkerboard in uv.
+struct Texture {
+  enum class Kind { constant, image, checkerboard };
+  Kind kind = Kind::constant;
+  Rgb value{1};                 // constant
+  Image image;                  // image (linear RGB; 8-bit files are decoded from sRGB)
+  Rgb tex1{1}, tex2{0};         // checkerboard colours
+  float uscale = 1, vscale = 1, udelta = 0, vdelta = 0;  // uv mapping
+  std::string name;
+};
+
+// Material parameters as written in the scene; a Bsdf is resolved from them at each hit.
+struct Material {
+  enum class Type { diffuse, conductor, dielectric };
+  Type type = Type::diffuse;
+  std::string name;
+  Rgb reflectance{0.5f};        // diffuse albedo; conductor: if use_reflectance, the normal-incidence colour
+  int reflectance_texture = -1; // index into Scene::textures, overrides reflectance
+  Rgb eta{0.2004f, 0.9240f, 1.1022f};  // conductor complex IOR (default: copper, as pbrt-v4)
+  Rgb k{3.9129f, 2.4528f, 2.1422f};
+  bool use_reflectance = false; // conductor given by "reflectance" instead of eta/k
+  float ior = 1.5f;             // dielectric index of refraction (outside medium is 1)
+  float alpha_x = 0, alpha_y = 0;  // GGX roughness (already remapped if remaproughness was set); 0 = smooth
+};
+
+// Emission attached to a shape (pbrt "AreaLightSource diffuse").
+struct AreaEmission {
+  Rgb radiance{0};     // L, scale already applied
+  bool two_sided = false;
+};
+
+struct TriangleMesh {
+  std::vector<Vec3> positions;   // world space
+  std::vector<Vec3> normals;     // optional shading normals (world space, per vertex)
+  std::vector<Vec2> uvs;         // optional
+  std::vector<uint32_t> indices; // 3 per triangle
+  int material = 0;
+  std::optional<AreaEmission> emission;
+  // pbrt: flip the geometric normal (ReverseOrientation xor a handedness-swapping transform).
+  bool flip_normal = false;
+  std::string source;            // where it came from, for `restir info` and error messages
+  size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Sphere {
+  Vec3 center;
+  float radius = 1;
+  int material = 0;
+  std::optional<AreaEmission> emission;
+  bool flip_normal = false;      // ReverseOrientation: normals (and emission) point inward
+};
+
+struct PointLight {
+  Vec3 position;
+  Rgb intensity{1};              // I (W/sr), scale applied
+};
+
+// Infinite light: constant radiance, or an HDR image in equirectangular (2:1, as most HDRI sites
+// ship) or pbrt-v4's equal-area octahedral (square) parameterization.
+struct EnvironmentLight {
+  enum class Mapping { constant, equirect, equal_area };
+  Mapping mapping = Mapping::constant;
+  Rgb radiance{1};               // constant colour, or the multiplier ("scale") for an image
+  Image image;
+  Mat4 world_from_light;         // orientation of the map
+  Mat4 light_from_world;
+  std::string filename;
+};
+
+// A pinhole perspective camera (pbrt "perspective", no lens).
+struct CameraKey {
+  Mat4 camera_from_world;        // pbrt convention: left-handed camera space, +z forward
+  float fov_degrees = 90;        // angle of the image's shorter axis (pbrt-v4 "fov")
+};
+
+struct Camera {
+  std::vector<CameraKey> keys;   // one key = static; more = animated across the frames
+  // Camera transform for frame f of n: linear interpolation of eye/target/up between keys
+  // spread evenly over the frames (keys[0] at frame 0, keys.back() at frame n-1).
+  CameraKey at_frame(int frame, int frame_count) const;
+};
+
+// What the scene file says about rendering; used as defaults that options may override.
+struct SceneHints {
+  std::optional<int> width, height, spp, max_depth;
+  std::optional<std::string> pixel_filter;       // "box" | "triangle" | "gaussian"
+  std::optional<float> filter_radius;
+};
+
+struct Scene {
+  std::vector<TriangleMesh> meshes;
+  std::vector<Sphere> spheres;
+  std::vector<Material> materials;   // index 0 always exists (default diffuse 0.5)
+  std::vector<Texture> textures;
+  std::vector<PointLight> point_lights;
+  std::optional<EnvironmentLight> environment;
+  Camera camera;
+  SceneHints hints;
+  std::string source_path;
+
+  Bounds3 bounds() const;
+  size_t triangle_count() const;
+};
+
+}  // namespace rl
