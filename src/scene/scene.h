@@ -50,6 +50,7 @@ struct TriangleMesh {
   int material = 0;
   std::optional<AreaEmission> emission;
   // pbrt: flip the geometric normal (ReverseOrientation xor a handedness-swapping transform).
+  // Only used without shading normals; always go through triangle_normal().
   bool flip_normal = false;
   std::string source;            // where it came from, for `restir info` and error messages
   size_t triangle_count() const { return indices.size() / 3; }
@@ -99,6 +100,20 @@ struct SceneHints {
   std::optional<std::string> pixel_filter;       // "box" | "triangle" | "gaussian"
   std::optional<float> filter_radius;
 };
+
+// Unit geometric normal of triangle `tri` with pbrt-v4's orientation rule
+// (Triangle::InteractionFromIntersection): with shading normals it is flipped to their side
+// (judged at the centroid), otherwise by flip_normal. Zero-area triangles give a zero vector.
+// Every consumer (intersection, emission, light sampling) must use this one function.
+inline Vec3 triangle_normal(const TriangleMesh& m, uint32_t tri) {
+  const uint32_t i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
+  Vec3 n = cross(m.positions[i1] - m.positions[i0], m.positions[i2] - m.positions[i0]);
+  float len = length(n);
+  if (!(len > 0)) return Vec3(0);
+  n = n / len;
+  if (!m.normals.empty()) return face_forward(n, m.normals[i0] + m.normals[i1] + m.normals[i2]);
+  return m.flip_normal ? -n : n;
+}
 
 struct Scene {
   std::vector<TriangleMesh> meshes;

@@ -1,0 +1,125 @@
+// Path tracer throughput on the shared Cornell box and Veach MIS scenes, all measured in one run:
+//   - path tracer rays/s and samples/s at 640x360,
+//   - raw Embree throughput on exactly the rays the path tracer traced (recorded, then replayed
+//     through Accel::intersect / occluded alone),
+//   - the share of a frame spent inside Embree = replay time / frame time (goal: >= 60%).
+// Ratios, not absolute numbers, are what to compare across machines.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <mutex>
+
+#include "core/parallel.h"
+#include "integrators/path_tracer.h"
+#include "integrators/render.h"
+#include "scene/loader.h"
+
+using namespace rl;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct FrameRun {
+  double seconds = 0;
+  PathStats stats;
+  std::vector<Ray> rays, shadow_rays;
+};
+
+// One frame of the reference path tracer, row-parallel, optionally recording its rays.
+FrameRun run_frame(const RenderContext& ctx, const PerspectiveCamera& cam, bool record) {
+  const Options& o = ctx.options;
+  FrameRun run;
+  std::mutex m;
+  auto t0 = Clock::now();
+  parallel_for(o.film.height, [&](int y) {
+    PathStats st;
+    std::vector<Ray> rays, shadow;
+    if (record) {
+      st.record_rays = &rays;
+      st.record_shadow_rays = &shadow;
+    }
+    for (int x = 0; x < o.film.width; ++x) {
+      uint32_t pixel = uint32_t(y * o.film.width + x);
+      for (int s = 0; s < o.render.spp; ++s) {
+        Ray r = camera_ray(ctx, cam, x, y, 0, s);
+        Pcg32 rng = make_rng(pixel, 0, RngPass::path, o.render.seed, uint32_t(s));
+        (void)path_radiance(ctx, o.path, r, rng, &st);
+      }
+    }
+    std::lock_guard lock(m);
+    run.stats.rays += st.rays;
+    run.stats.shadow_rays += st.shadow_rays;
+    if (record) {
+      run.rays.insert(run.rays.end(), rays.begin(), rays.end());
+      run.shadow_rays.insert(run.shadow_rays.end(), shadow.begin(), shadow.end());
+    }
+  });
+  run.seconds = seconds_since(t0);
+  return run;
+}
+
+double replay(const Accel& accel, const std::vector<Ray>& rays, const std::vector<Ray>& shadow) {
+  const int chunk = 4096;
+  const int n1 = int((rays.size() + chunk - 1) / chunk), n2 = int((shadow.size() + chunk - 1) / chunk);
+  auto t0 = Clock::now();
+  parallel_for(n1 + n2, [&](int c) {
+    if (c < n1) {
+      size_t end = std::min(rays.size(), size_t(c + 1) * chunk);
+      for (size_t i = size_t(c) * chunk; i < end; ++i) {
+        Hit h;
+        (void)accel.intersect(rays[i], h);
+      }
+    } else {
+      size_t b = size_t(c - n1) * chunk, end = std::min(shadow.size(), b + chunk);
+      for (size_t i = b; i < end; ++i) (void)accel.occluded(shadow[i]);
+    }
+  });
+  return seconds_since(t0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"path tracer and Embree throughput benchmark"};
+  int width = 640, height = 360, spp = 4, repeats = 3;
+  app.add_option("--width", width);
+  app.add_option("--height", height);
+  app.add_option("--spp", spp);
+  app.add_option("--repeats", repeats, "timed repetitions (the median is reported)");
+  CLI11_PARSE(app, argc, argv);
+
+  const std::string shared = RESTIR_SHARED_DIR;
+  fmt::print("{:<12} {:>10} {:>12} {:>12} {:>14} {:>14} {:>10}\n", "scene", "ms/frame", "Mrays/s(PT)", "Msamples/s",
+             "Mrays/s(Embree)", "rays/sample", "in Embree");
+  for (const char* name : {"cornell-box", "veach-mis"}) {
+    Scene scene = load_scene(shared + "/scenes/" + name + "/scene-v4.pbrt");
+    Options o;
+    apply_scene_hints(o, scene.hints);
+    o.film.width = width;
+    o.film.height = height;
+    o.render.spp = spp;
+    Accel accel(scene);
+    Lights lights(scene, o.render.light_selection);
+    RenderContext ctx{scene, accel, lights, o};
+    PerspectiveCamera cam(scene.camera.at_frame(0, 1), width, height);
+
+    run_frame(ctx, cam, false);  // warm-up
+    std::vector<double> frame_s, embree_s;
+    FrameRun rec = run_frame(ctx, cam, true);
+    for (int i = 0; i < repeats; ++i) {
+      frame_s.push_back(run_frame(ctx, cam, false).seconds);
+      embree_s.push_back(replay(accel, rec.rays, rec.shadow_rays));
+    }
+    std::sort(frame_s.begin(), frame_s.end());
+    std::sort(embree_s.begin(), embree_s.end());
+    double tf = frame_s[frame_s.size() / 2], te = embree_s[embree_s.size() / 2];
+    double rays = double(rec.stats.rays + rec.stats.shadow_rays);
+    double samples = double(width) * height * spp;
+    fmt::print("{:<12} {:>10.1f} {:>12.2f} {:>12.3f} {:>14.2f} {:>14.2f} {:>9.0f}%\n", name, tf * 1e3, rays / tf * 1e-6,
+               samples / tf * 1e-6, rays / te * 1e-6, rays / samples, 100 * te / tf);
+  }
+  return 0;
+}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# The main job: installs what is missing, builds, and renders the default scenes into out/.
+source "$(dirname "$0")/common.sh"
+install_missing_packages
+build "$ROOT/build"
+OUT="${OUT:-$ROOT/out}"
+mkdir -p "$OUT"
+R="$ROOT/build/bin/restir"
+SHARED="$ROOT/../shared/scenes"
+render() {  # name scene [options...]
+  local name="$1" scene="$2"
+  shift 2
+  echo "== $name"
+  "$R" render "$scene" -o "$OUT/$name.exr" --png "$OUT/$name.png" "$@"
+}
+render cornell-box "$SHARED/cornell-box/scene-v4.pbrt" --res 512x512 --spp 64 --set path.max_depth=8
+render veach-mis "$SHARED/veach-mis/scene-v4.pbrt" --res 640x360 --spp 64
+render furnace "$SHARED/furnace.pbrt" --spp 16 --set path.max_depth=65
+for s in cornell-box many-lights teapot ajar-door env-object; do
+  [ -f "$ROOT/scenes/$s.pbrt" ] && render "own-$s" "$ROOT/scenes/$s.pbrt" --spp 32
+done
+echo "done: images in $OUT"

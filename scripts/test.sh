@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the whole test suite (unit + statistical tests).
+#   scripts/test.sh             Release build in build/
+#   scripts/test.sh --sanitize  ASan + UBSan build in build-asan/
+#   scripts/test.sh --fast      skip the tests labelled "slow"
+source "$(dirname "$0")/common.sh"
+dir="$ROOT/build"
+cmake_args=()
+ctest_args=()
+for a in "$@"; do
+  case "$a" in
+    --sanitize) dir="$ROOT/build-asan"; cmake_args+=(-DRESTIR_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo) ;;
+    --fast) ctest_args+=(-LE slow) ;;
+    *) echo "unknown argument: $a" >&2; exit 2 ;;
+  esac
+done
+install_missing_packages
+build "$dir" "${cmake_args[@]}"
+cd "$dir"
+ctest -j "$(nproc)" --output-on-failure --timeout 900 "${ctest_args[@]}"

@@ -1,0 +1,27 @@
+// The one parallel loop of the renderer: tiles of pixels over oneTBB. Work is split into fixed
+// tiles so that results never depend on the thread count (each pixel owns its random streams).
+#pragma once
+#include <functional>
+
+namespace rl {
+
+// Calls fn(x, y) for every pixel, tile by tile on TBB worker threads; progress(done, total) is
+// called from one thread at a time after each finished tile (may be empty).
+void parallel_for_pixels(int width, int height, const std::function<void(int, int)>& fn,
+                         const std::function<void(int, int)>& progress = {});
+// Calls fn(i) for i in [0, n) in parallel.
+void parallel_for(int n, const std::function<void(int)>& fn);
+
+// Limits the worker threads of every parallel loop for the lifetime of the object (0 = all cores).
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads);
+  ~ThreadLimit();
+  ThreadLimit(const ThreadLimit&) = delete;
+  ThreadLimit& operator=(const ThreadLimit&) = delete;
+
+ private:
+  void* control_ = nullptr;
+};
+
+}  // namespace rl

@@ -1,0 +1,55 @@
+// The integrator interface and registry. One file per algorithm; an integrator renders frames of
+// a sequence into an HDR image. Virtual dispatch happens once per frame, never per sample.
+#pragma once
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+#include "integrators/options.h"
+#include "scene/accel.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
+
+namespace rl {
+
+// A render that cannot produce a correct image (e.g. non-finite radiance) fails loudly.
+struct RenderError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderContext {
+  const Scene& scene;
+  const Accel& accel;
+  const Lights& lights;
+  const Options& options;
+};
+
+struct FrameInfo {
+  int index = 0;                 // frame number in the sequence
+  int count = 1;                 // frames in the sequence
+  const PerspectiveCamera* camera = nullptr;
+  const PerspectiveCamera* previous_camera = nullptr;  // null on the first frame
+  std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // Renders one frame into `out` (already sized to the film); called for frames 0, 1, ... in order.
+  virtual void render_frame(const FrameInfo& frame, Image& out) = 0;
+};
+
+struct IntegratorInfo {
+  const char* name;
+  const char* description;
+  std::unique_ptr<Integrator> (*make)(const RenderContext&);
+};
+
+const std::vector<IntegratorInfo>& integrator_registry();
+// Throws OptionError for an unknown name, listing the known ones.
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
+
+}  // namespace rl

@@ -1,0 +1,197 @@
+// The reference: a unidirectional path tracer with next-event estimation and multiple importance
+// sampling (Veach 1997, ch. 9), structured as pbrt-v4's PathIntegrator so that its images can be
+// compared with pbrt's. Every ReSTIR variant is judged against it.
+#include "integrators/path_tracer.h"
+
+#include <atomic>
+
+#include "core/parallel.h"
+#include "core/sampling.h"
+#include "integrators/pixel_sampler.h"
+#include "scene/bsdf.h"
+#include "scene/texture.h"
+
+namespace rl {
+
+namespace {
+
+float mis_weight(MisHeuristic h, float pa, float pb) {
+  return h == MisHeuristic::power ? power_heuristic(pa, pb) : balance_heuristic(pa, pb);
+}
+
+// Direction sampling at a vertex: the BSDF's own importance sampling, or (path.bsdf_sampling =
+// false, the thesis' fig. 4.7 toggle) the cosine-weighted hemisphere on wo's side — both sides
+// with probability 1/2 for transmissive materials. Delta BSDFs can only be sampled by the BSDF.
+bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Pcg32& rng, BsdfSample& s) {
+  float u_lobe = rng.next_float();
+  Vec2 u = rng.next_2d();
+  if (use_bsdf || bsdf_is_delta(bsdf)) return bsdf_sample(bsdf, wo, u_lobe, u, s);
+  const bool transmissive = bsdf.type == Material::Type::dielectric;
+  Vec3 wi = sample_cosine_hemisphere(u);
+  float side = wo.z < 0 ? -1.0f : 1.0f;
+  float pdf = cosine_hemisphere_pdf(wi.z);
+  if (transmissive) {
+    pdf *= 0.5f;
+    if (u_lobe < 0.5f) side = -side;
+  }
+  wi.z *= side;
+  if (pdf <= 0) return false;
+  s.wi = wi;
+  s.f = bsdf_eval(bsdf, wo, wi);
+  s.pdf = pdf;
+  s.is_delta = false;
+  return true;
+}
+
+float direction_pdf(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Vec3 wi) {
+  if (use_bsdf) return bsdf_pdf(bsdf, wo, wi);
+  float same_side = (wo.z < 0) == (wi.z < 0) ? 1.0f : 0.0f;
+  float pdf = cosine_hemisphere_pdf(std::fabs(wi.z));
+  if (bsdf.type == Material::Type::dielectric) return 0.5f * pdf;
+  return same_side * pdf;
+}
+
+}  // namespace
+
+Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats) {
+  const Scene& scene = ctx.scene;
+  const Lights& lights = ctx.lights;
+  const float eps = ctx.accel.ray_epsilon();
+  Rgb L(0), beta(1);
+  bool specular_bounce = false;
+  float prev_pdf = 0;        // solid-angle pdf of the direction that produced `ray`
+  Vec3 prev_p;               // the vertex `ray` left from
+  const bool nee = opt.nee && !lights.empty();
+
+  for (int depth = 0;; ++depth) {
+    Hit hit;
+    if (stats) {
+      ++stats->rays;
+      if (stats->record_rays) stats->record_rays->push_back(ray);
+    }
+    if (!ctx.accel.intersect(ray, hit)) {
+      Rgb Le = lights.environment_radiance(ray.d);
+      if (!is_black(Le)) {
+        float w = 1;
+        if (depth > 0 && !specular_bounce && nee) w = mis_weight(opt.mis, prev_pdf, lights.environment_pdf(ray.d));
+        L += beta * Le * w;
+      }
+      break;
+    }
+    SurfaceInteraction si = ctx.accel.interaction(ray, hit);
+
+    // Emission seen along the ray, MIS-weighted against light sampling from the previous vertex.
+    uint32_t emitter = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
+    if (emitter != kNoEmitter) {
+      Rgb Le = lights.emitted(emitter, si.ng, -ray.d);
+      if (!is_black(Le)) {
+        float w = 1;
+        if (depth > 0 && !specular_bounce && nee) w = mis_weight(opt.mis, prev_pdf, lights.pdf(emitter, prev_p, si.p, si.ng));
+        L += beta * Le * w;
+      }
+    }
+    if (depth >= opt.max_depth) break;
+
+    const Material& mat = scene.materials[size_t(si.material)];
+    const Bsdf bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
+    const Frame frame = Frame::from_normal(si.ns);
+    const Vec3 wo = frame.to_local(-ray.d);
+    const bool delta = bsdf_is_delta(bsdf);
+
+    // Next-event estimation: one light sample, MIS-weighted against BSDF sampling.
+    if (nee && !delta) {
+      LightSample ls;
+      if (lights.sample(si.p, rng.next_float(), rng.next_2d(), ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
+        Vec3 wi = frame.to_local(ls.wi);
+        Rgb f = bsdf_eval(bsdf, wo, wi) * std::fabs(wi.z);
+        if (!is_black(f)) {
+          Ray shadow = ls.distance >= kInfinity ? spawn_ray(si.p, si.ng, ls.wi, eps)
+                                                : spawn_ray_to(si.p, si.ng, ls.position, ls.normal, eps);
+          if (stats) {
+            ++stats->shadow_rays;
+            if (stats->record_shadow_rays) stats->record_shadow_rays->push_back(shadow);
+          }
+          if (!ctx.accel.occluded(shadow)) {
+            float w = ls.is_delta ? 1.0f : mis_weight(opt.mis, ls.pdf, direction_pdf(bsdf, opt.bsdf_sampling, wo, wi));
+            L += beta * f * ls.radiance * (w / ls.pdf);
+          }
+        }
+      }
+    }
+
+    // Continue the path.
+    BsdfSample bs;
+    if (!sample_direction(bsdf, opt.bsdf_sampling, wo, rng, bs) || bs.pdf <= 0 || is_black(bs.f)) break;
+    beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+    specular_bounce = bs.is_delta;
+    prev_pdf = bs.pdf;
+    prev_p = si.p;
+    const Vec3 wi_world = frame.to_world(bs.wi);
+    ray = spawn_ray(si.p, si.ng, wi_world, eps);
+
+    // Russian roulette (pbrt-v4): survive with probability max(beta) once past rr_min_depth.
+    if (opt.russian_roulette && depth + 1 >= opt.rr_min_depth) {
+      float m = max_component(beta);
+      if (m < 1) {
+        float q = std::max(0.0f, 1 - m);
+        if (rng.next_float() < q) break;
+        beta /= 1 - q;
+      }
+    }
+  }
+  return L;
+}
+
+Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {
+  const RenderOptions& ro = ctx.options.render;
+  const uint32_t pixel = uint32_t(y) * uint32_t(camera.width()) + uint32_t(x);
+  Pcg32 rng = make_rng(pixel, uint32_t(frame), RngPass::camera, ro.seed, uint32_t(sample));
+  const uint64_t pixel_hash = mix64(hash_combine(ro.seed, pixel));
+  Vec2 u = pattern_sample(ro.sample_pattern, uint64_t(frame) * uint64_t(ro.spp) + uint64_t(sample), ro.spp, pixel_hash, rng);
+  Vec2 o = filter_offset(ctx.options.film.filter, ctx.options.film.filter_radius, u, rng);
+  return camera.generate_ray({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y});
+}
+
+namespace {
+
+class PathTracer final : public Integrator {
+ public:
+  explicit PathTracer(const RenderContext& ctx) : ctx_(ctx) {}
+
+  void render_frame(const FrameInfo& frame, Image& out) override {
+    const Options& o = ctx_.options;
+    std::atomic<uint64_t> bad{0};
+    std::atomic<int> bad_pixel{-1};
+    parallel_for_pixels(out.width, out.height, [&](int x, int y) {
+      const uint32_t pixel = uint32_t(y) * uint32_t(out.width) + uint32_t(x);
+      Rgb sum(0);
+      for (int s = 0; s < o.render.spp; ++s) {
+        Ray ray = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
+        Pcg32 rng = make_rng(pixel, uint32_t(frame.index), RngPass::path, o.render.seed, uint32_t(s));
+        Rgb L = path_radiance(ctx_, o.path, ray, rng);
+        if (!is_finite(L)) {
+          ++bad;
+          int expected = -1;
+          bad_pixel.compare_exchange_strong(expected, int(pixel));
+          continue;
+        }
+        sum += L;
+      }
+      out.at(x, y) = sum / float(o.render.spp);
+    }, frame.progress);
+    if (bad > 0) {
+      int p = bad_pixel.load();
+      throw RenderError("path tracer: " + std::to_string(bad.load()) + " samples had non-finite radiance (first at pixel " +
+                        std::to_string(p % out.width) + "," + std::to_string(p / out.width) + ")");
+    }
+  }
+
+ private:
+  RenderContext ctx_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) { return std::make_unique<PathTracer>(ctx); }
+
+}  // namespace rl

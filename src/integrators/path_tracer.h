@@ -1,0 +1,27 @@
+#pragma once
+#include <vector>
+
+#include "core/rng.h"
+#include "integrators/integrator.h"
+
+namespace rl {
+
+// Counters of one radiance estimate, summed by the caller (benchmarks report rays/s).
+struct PathStats {
+  uint64_t rays = 0;          // closest-hit rays
+  uint64_t shadow_rays = 0;   // occlusion rays
+  // Benchmarks only: when set, every traced ray is appended here (to replay them through Embree
+  // alone and measure the share of frame time spent in traversal).
+  std::vector<Ray>* record_rays = nullptr;
+  std::vector<Ray>* record_shadow_rays = nullptr;
+};
+
+// Radiance arriving along `ray` (pbrt-v4 PathIntegrator::Li): emission, next-event estimation and
+// BSDF sampling combined with MIS, Russian roulette. Shared by the reference integrator and the
+// ReSTIR integrators for their reference/path parts.
+Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats = nullptr);
+
+// Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
+Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);
+
+}  // namespace rl

@@ -1,0 +1,24 @@
+#include "integrators/integrator.h"
+
+namespace rl {
+
+std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx);
+
+const std::vector<IntegratorInfo>& integrator_registry() {
+  static const std::vector<IntegratorInfo> registry = {
+      {"pt", "reference path tracer: NEE + MIS, Russian roulette (path.*)", &make_path_tracer},
+  };
+  return registry;
+}
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx) {
+  std::string known;
+  for (const auto& info : integrator_registry()) {
+    if (name == info.name) return info.make(ctx);
+    known += known.empty() ? "" : ", ";
+    known += info.name;
+  }
+  throw OptionError("unknown integrator '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace rl

@@ -1,0 +1,83 @@
+#include "integrators/render.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "core/parallel.h"
+#include "integrators/integrator.h"
+#include "scene/accel.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
+
+namespace rl {
+
+void apply_scene_hints(Options& o, const SceneHints& h) {
+  if (h.width) set_option(o, "film.width", std::to_string(*h.width));
+  if (h.height) set_option(o, "film.height", std::to_string(*h.height));
+  if (h.spp) set_option(o, "render.spp", std::to_string(*h.spp));
+  if (h.max_depth) set_option(o, "path.max_depth", std::to_string(*h.max_depth));
+  if (h.pixel_filter) set_option(o, "film.filter", *h.pixel_filter);
+  if (h.filter_radius) set_option(o, "film.filter_radius", format_value(*h.filter_radius));
+}
+
+namespace {
+void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {
+  const int width = 30;
+  float f = (float(frame) + float(done) / float(total)) / float(frames);
+  int filled = int(f * width);
+  double eta = f > 0 ? elapsed_s * (1 - f) / f : 0;
+  std::fprintf(stderr, "\r[%.*s%*s] %3d%%  frame %d/%d  ETA %.0fs ", filled, "##############################",
+               width - filled, "", int(f * 100), frame + 1, frames, eta);
+  std::fflush(stderr);
+}
+}  // namespace
+
+RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
+  validate_options(o);
+  ThreadLimit limit(o.render.threads);
+  Camera camera = scene.camera;
+  if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
+  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
+
+  Accel accel(scene);
+  Lights lights(scene, o.render.light_selection);
+  RenderContext ctx{scene, accel, lights, o};
+  auto integrator = make_integrator(o.integrator, ctx);
+
+  RenderResult result;
+  result.average = Image(o.film.width, o.film.height);
+  const bool bar = hooks.progress_bar && isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<PerspectiveCamera> previous;
+  for (int f = 0; f < o.render.frames; ++f) {
+    PerspectiveCamera cam(camera.at_frame(f, o.render.frames), o.film.width, o.film.height);
+    FrameInfo info;
+    info.index = f;
+    info.count = o.render.frames;
+    info.camera = &cam;
+    info.previous_camera = previous ? &*previous : nullptr;
+    if (bar)
+      info.progress = [&](int done, int total) {
+        double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        draw_progress(f, o.render.frames, done, total, el);
+      };
+    Image img(o.film.width, o.film.height);
+    auto t0 = std::chrono::steady_clock::now();
+    integrator->render_frame(info, img);
+    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    result.frame_ms.push_back(ms);
+    // Running mean, numerically stable for long sequences.
+    const float w = 1.0f / float(f + 1);
+    for (size_t i = 0; i < img.size(); ++i) result.average.pixels[i] += (img.pixels[i] - result.average.pixels[i]) * w;
+    if (hooks.on_frame) hooks.on_frame(f, img, ms);
+    if (f + 1 == o.render.frames) result.last = std::move(img);
+    previous = cam;
+  }
+  if (bar) std::fprintf(stderr, "\n");
+  return result;
+}
+
+}  // namespace rl

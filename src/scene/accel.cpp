@@ -1,0 +1,173 @@
+#include "scene/accel.h"
+
+#include <embree3/rtcore.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace rl {
+
+struct Accel::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+void check_device(RTCDevice device, const char* what) {
+  RTCError err = rtcGetDeviceError(device);
+  if (err != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error while ") + what + " (code " + std::to_string(int(err)) + ")");
+}
+}  // namespace
+
+Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice("threads=0");  // Embree builds with TBB's arena, no threads of its own
+  if (!impl_->device) throw std::runtime_error("cannot create the Embree device");
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+
+  Bounds3 b;
+  for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
+    const TriangleMesh& m = scene.meshes[mi];
+    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Shared buffers: Embree reads the scene's arrays in place (Vec3 is 12 bytes; Embree reads
+    // 16 bytes past the last vertex for SSE loads, so pad by copying into a padded buffer).
+    float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), m.positions.size()));
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      vb[3 * i + 0] = m.positions[i].x;
+      vb[3 * i + 1] = m.positions[i].y;
+      vb[3 * i + 2] = m.positions[i].z;
+      b.extend(m.positions[i]);
+    }
+    unsigned* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                  3 * sizeof(unsigned), m.triangle_count()));
+    std::copy(m.indices.begin(), m.indices.end(), ib);
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(impl_->scene, g);
+    rtcReleaseGeometry(g);
+    if (id != mi) throw std::runtime_error("unexpected Embree geometry id");
+  }
+  if (!scene.spheres.empty()) {
+    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+    float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                            4 * sizeof(float), scene.spheres.size()));
+    for (size_t i = 0; i < scene.spheres.size(); ++i) {
+      const Sphere& s = scene.spheres[i];
+      vb[4 * i + 0] = s.center.x;
+      vb[4 * i + 1] = s.center.y;
+      vb[4 * i + 2] = s.center.z;
+      vb[4 * i + 3] = s.radius;
+      b.extend(s.center - Vec3(s.radius));
+      b.extend(s.center + Vec3(s.radius));
+    }
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(impl_->scene, g);
+    rtcReleaseGeometry(g);
+    if (id != sphere_geom()) throw std::runtime_error("unexpected Embree geometry id");
+  }
+  rtcCommitScene(impl_->scene);
+  check_device(impl_->device, "building the BVH");
+  if (!b.empty()) {
+    float extent = std::max(max_component(max(b.hi, -b.lo)), max_component(b.diagonal()));
+    epsilon_ = std::max(1e-5f * extent, 1e-6f);
+  }
+}
+
+Accel::~Accel() = default;
+
+bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x;
+  rh.ray.org_y = ray.o.y;
+  rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x;
+  rh.ray.dir_y = ray.d.y;
+  rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = ray.tmin;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.geom = rh.hit.geomID;
+  hit.prim = rh.hit.primID;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  return true;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = ray.o.x;
+  r.org_y = ray.o.y;
+  r.org_z = ray.o.z;
+  r.dir_x = ray.d.x;
+  r.dir_y = ray.d.y;
+  r.dir_z = ray.d.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  r.time = 0;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(impl_->scene, &ctx, &r);
+  return r.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
+
+SurfaceInteraction Accel::interaction(const Ray& ray, const Hit& hit) const {
+  SurfaceInteraction si;
+  si.geom = hit.geom;
+  si.prim = hit.prim;
+  if (hit.geom == sphere_geom()) {
+    const Sphere& s = scene_.spheres[hit.prim];
+    Vec3 p = ray.o + ray.d * hit.t;
+    Vec3 n = normalize(p - s.center);
+    si.p = s.center + n * s.radius;  // re-project onto the surface to cut the hit's float error
+    si.ng = s.flip_normal ? -n : n;
+    si.ns = si.ng;
+    // pbrt's sphere (u, v): phi / 2pi and theta from the z axis.
+    float phi = std::atan2(n.y, n.x);
+    if (phi < 0) phi += 2 * kPi;
+    si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
+    si.material = s.material;
+    si.is_sphere = true;
+    return si;
+  }
+  const TriangleMesh& m = scene_.meshes[hit.geom];
+  const uint32_t i0 = m.indices[3 * hit.prim], i1 = m.indices[3 * hit.prim + 1], i2 = m.indices[3 * hit.prim + 2];
+  const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
+  const Vec3 p0 = m.positions[i0], p1 = m.positions[i1], p2 = m.positions[i2];
+  si.p = p0 * b0 + p1 * b1 + p2 * b2;
+  Vec3 ng = triangle_normal(m, hit.prim);
+  if (is_black(ng)) ng = -ray.d;  // degenerate triangle: any consistent normal
+  si.ng = ng;
+  if (!m.normals.empty()) {
+    Vec3 ns = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
+    float l = length(ns);
+    si.ns = l > 0 ? face_forward(ns / l, ng) : ng;
+  } else {
+    si.ns = ng;
+  }
+  if (!m.uvs.empty()) {
+    si.uv = m.uvs[i0] * b0 + m.uvs[i1] * b1 + m.uvs[i2] * b2;
+  } else {
+    si.uv = {b1, b2};
+  }
+  si.material = m.material;
+  return si;
+}
+
+}  // namespace rl

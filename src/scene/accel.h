@@ -1,0 +1,73 @@
+// Embree 3 ray queries over a Scene: triangle meshes (one Embree geometry each) and all spheres
+// (one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry). The only place that talks to Embree.
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+inline constexpr uint32_t kInvalidId = 0xffffffffu;
+
+struct Hit {
+  float t = kInfinity;
+  uint32_t geom = kInvalidId;  // mesh index, or Accel::sphere_geom() for spheres
+  uint32_t prim = kInvalidId;  // triangle index in the mesh, or sphere index
+  float u = 0, v = 0;          // barycentrics of vertices 1 and 2 (triangles)
+  bool valid() const { return geom != kInvalidId; }
+};
+
+// Everything shading needs about a hit point.
+struct SurfaceInteraction {
+  Vec3 p;
+  Vec3 ng;        // geometric normal, orientation as pbrt (flip_normal applied), unit
+  Vec3 ns;        // shading normal (interpolated N, on the same side as ng), unit
+  Vec2 uv;
+  int material = 0;
+  bool is_sphere = false;
+  uint32_t geom = kInvalidId, prim = kInvalidId;
+};
+
+class Accel {
+ public:
+  explicit Accel(const Scene& scene);
+  ~Accel();
+  Accel(const Accel&) = delete;
+  Accel& operator=(const Accel&) = delete;
+
+  // Closest hit in (ray.tmin, ray.tmax). Thread-safe.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  // Any hit in (ray.tmin, ray.tmax). Thread-safe.
+  bool occluded(const Ray& ray) const;
+  SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+  uint32_t sphere_geom() const { return uint32_t(scene_.meshes.size()); }
+  const Scene& scene() const { return scene_; }
+  // Scene-size dependent epsilon used to offset spawned rays off surfaces.
+  float ray_epsilon() const { return epsilon_; }
+
+ private:
+  struct Impl;
+  const Scene& scene_;
+  std::unique_ptr<Impl> impl_;
+  float epsilon_ = 1e-4f;
+};
+
+// Ray leaving p (with geometric normal ng) in direction d, offset to the side d points to, so it
+// does not re-hit the surface it starts on.
+inline Ray spawn_ray(Vec3 p, Vec3 ng, Vec3 d, float eps) {
+  Vec3 off = ng * (dot(d, ng) >= 0 ? eps : -eps);
+  return Ray{p + off, d, 0.0f, kInfinity};
+}
+// Shadow ray from p to the point q (with normal nq, zero for points/env), offsetting both ends.
+inline Ray spawn_ray_to(Vec3 p, Vec3 ng, Vec3 q, Vec3 nq, float eps) {
+  Vec3 d0 = q - p;
+  Vec3 o = p + ng * (dot(d0, ng) >= 0 ? eps : -eps);
+  Vec3 target = q + nq * (dot(o - q, nq) >= 0 ? eps : -eps);
+  Vec3 d = target - o;
+  float len = length(d);
+  return Ray{o, d / len, 0.0f, len * (1 - 1e-4f)};
+}
+
+}  // namespace rl

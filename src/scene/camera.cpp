@@ -1,0 +1,125 @@
+#include "scene/camera.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace rl {
+
+CameraKey Camera::at_frame(int frame, int frame_count) const {
+  if (keys.empty()) return {};
+  if (keys.size() == 1 || frame_count <= 1) return keys.front();
+  // Keys are spread evenly over the frames; interpolate the camera-to-world frame linearly and
+  // re-orthonormalize, keeping the handedness of the keys (pbrt scenes often mirror with Scale -1 1 1).
+  float t = float(frame) / float(frame_count - 1) * float(keys.size() - 1);
+  size_t k = std::min(size_t(t), keys.size() - 2);
+  float f = t - float(k);
+  Mat4 a, b;
+  if (!keys[k].camera_from_world.inverse(a) || !keys[k + 1].camera_from_world.inverse(b)) return keys[k];
+  Vec3 col[4];
+  for (int c = 0; c < 4; ++c)
+    col[c] = lerp(f, Vec3{a.m[0][c], a.m[1][c], a.m[2][c]}, Vec3{b.m[0][c], b.m[1][c], b.m[2][c]});
+  float handed = a.det3() < 0 ? -1.0f : 1.0f;
+  Vec3 z = normalize(col[2]);
+  Vec3 y = normalize(col[1] - z * dot(col[1], z));
+  Vec3 x = cross(y, z) * handed;
+  Mat4 w;
+  for (int i = 0; i < 3; ++i) {
+    w.m[i][0] = x[i];
+    w.m[i][1] = y[i];
+    w.m[i][2] = z[i];
+    w.m[i][3] = col[3][i];
+  }
+  CameraKey out;
+  w.inverse(out.camera_from_world);
+  out.fov_degrees = lerp(f, keys[k].fov_degrees, keys[k + 1].fov_degrees);
+  return out;
+}
+
+PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height)
+    : camera_from_world_(key.camera_from_world), width_(width), height_(height) {
+  if (!camera_from_world_.inverse(world_from_camera_)) throw std::runtime_error("camera transform is singular");
+  position_ = world_from_camera_.apply_point(Vec3(0));
+  forward_ = normalize(world_from_camera_.apply_vector(Vec3(0, 0, 1)));
+  // pbrt-v4: the fov spans the shorter image axis; the screen window is [-ratio, ratio] on the longer one.
+  tan_half_ = std::tan(key.fov_degrees * 0.5f * kPi / 180.0f);
+  float ratio = float(width) / float(height);
+  if (ratio > 1) {
+    sx_ = ratio;
+    sy_ = 1;
+  } else {
+    sx_ = 1;
+    sy_ = 1 / ratio;
+  }
+}
+
+Ray PerspectiveCamera::generate_ray(Vec2 raster) const {
+  // Raster -> screen: x in [-sx, sx] left to right, y in [sy, -sy] top to bottom (pbrt's raster-from-screen).
+  float sx = (raster.x / float(width_) * 2 - 1) * sx_;
+  float sy = (1 - raster.y / float(height_) * 2) * sy_;
+  Vec3 dir_cam = normalize(Vec3{sx * tan_half_, sy * tan_half_, 1});
+  Ray r;
+  r.o = position_;
+  r.d = normalize(world_from_camera_.apply_vector(dir_cam));
+  return r;
+}
+
+bool PerspectiveCamera::project(Vec3 world, Vec2& raster) const {
+  Vec3 c = camera_from_world_.apply_point(world);
+  if (c.z <= 0) return false;
+  float sx = c.x / (c.z * tan_half_), sy = c.y / (c.z * tan_half_);
+  raster = {(sx / sx_ + 1) * 0.5f * float(width_), (1 - sy / sy_) * 0.5f * float(height_)};
+  return raster.x >= 0 && raster.y >= 0 && raster.x < float(width_) && raster.y < float(height_);
+}
+
+namespace {
+Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
+    throw std::runtime_error(fmt::format("{}: '{}' must be an array of 3 numbers", where, key));
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) {
+    if (!j[key][size_t(i)].is_number()) throw std::runtime_error(fmt::format("{}: '{}' must hold numbers", where, key));
+    v[i] = j[key][size_t(i)].get<float>();
+  }
+  return v;
+}
+}  // namespace
+
+void load_camera_path(const std::string& path, Camera& camera) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open camera path", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ss.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}: invalid JSON: {}", path, e.what()));
+  }
+  if (!j.is_object() || !j.contains("keys") || !j["keys"].is_array() || j["keys"].empty())
+    throw std::runtime_error(fmt::format("{}: expected {{\"keys\": [ ... ]}} with at least one key", path));
+  std::vector<CameraKey> keys;
+  for (size_t i = 0; i < j["keys"].size(); ++i) {
+    const auto& k = j["keys"][i];
+    std::string where = fmt::format("{}: key {}", path, i);
+    if (!k.is_object()) throw std::runtime_error(where + ": expected an object");
+    CameraKey key;
+    Vec3 up = k.contains("up") ? json_vec3(k, "up", where) : Vec3(0, 1, 0);
+    if (!look_at(json_vec3(k, "eye", where), json_vec3(k, "target", where), up, key.camera_from_world))
+      throw std::runtime_error(where + ": eye, target and up do not define a camera");
+    if (k.contains("fov")) {
+      if (!k["fov"].is_number()) throw std::runtime_error(where + ": 'fov' must be a number");
+      key.fov_degrees = k["fov"].get<float>();
+      if (!(key.fov_degrees > 0 && key.fov_degrees < 180)) throw std::runtime_error(where + ": 'fov' must be in (0, 180)");
+    } else if (!camera.keys.empty()) {
+      key.fov_degrees = camera.keys.front().fov_degrees;
+    }
+    keys.push_back(key);
+  }
+  camera.keys = std::move(keys);
+}
+
+}  // namespace rl

@@ -1,0 +1,112 @@
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "image/image_io.h"
+#include "test_helpers.h"
+
+using namespace rl;
+using namespace rl::test;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_dir(const char* name) {
+  fs::path d = fs::temp_directory_path() / (std::string("restir-cli-") + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+const char* kGoodScene = R"(Film "rgb" "integer xresolution" [8] "integer yresolution" [8]
+Camera "perspective" "float fov" [60]
+WorldBegin
+AttributeBegin
+AreaLightSource "diffuse" "rgb L" [1 1 1]
+Shape "trianglemesh" "point3 P" [-1 -1 5  1 -1 5  1 1 5  -1 1 5] "integer indices" [0 1 2 0 2 3]
+AttributeEnd
+)";
+}  // namespace
+
+TEST_SUITE("cli") {
+  TEST_CASE("render writes EXR, PNG and a JSON sidecar that carry the full configuration") {
+    fs::path d = temp_dir("ok");
+    write(d / "s.pbrt", kGoodScene);
+    auto r = run_restir("render " + (d / "s.pbrt").string() + " -q --spp 2 --set path.max_depth=2 -o " +
+                        (d / "o.exr").string() + " --png " + (d / "o.png").string());
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(fs::exists(d / "o.exr"));
+    CHECK(fs::exists(d / "o.png"));
+    CHECK(fs::exists(d / "o.json"));
+    bool found = false;
+    for (const auto& [k, v] : read_exr_metadata((d / "o.exr").string()))
+      if (k == "restir.config") found = v.find("\"path.max_depth\":2") != std::string::npos;
+    CHECK(found);
+    // Nothing but the outputs: no temporary files left behind.
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file() ? 1 : 0;
+    CHECK(files == 4);
+    fs::remove_all(d);
+  }
+
+  TEST_CASE("bad input gives one clear error line, a non-zero exit, and no output file") {
+    fs::path d = temp_dir("bad");
+    write(d / "good.pbrt", kGoodScene);
+    write(d / "truncated.pbrt", std::string(kGoodScene).substr(0, 200));
+    write(d / "unknown.pbrt", std::string("WorldBegin\nFrobnicate \"x\"\n"));
+    write(d / "noply.pbrt", "WorldBegin\nShape \"plymesh\" \"string filename\" \"missing.ply\"\n");
+    write(d / "noexr.pbrt", "WorldBegin\nLightSource \"infinite\" \"string filename\" \"missing.exr\"\n");
+    const std::string good = (d / "good.pbrt").string(), out = (d / "out.exr").string();
+    struct Case {
+      std::string args, expect;
+    } cases[] = {
+        {"render " + (d / "truncated.pbrt").string() + " -o " + out, "truncated.pbrt"},
+        {"render " + (d / "unknown.pbrt").string() + " -o " + out, "Frobnicate"},
+        {"render " + (d / "noply.pbrt").string() + " -o " + out, "missing.ply"},
+        {"render " + (d / "noexr.pbrt").string() + " -o " + out, "missing.exr"},
+        {"render " + (d / "nonexistent.pbrt").string() + " -o " + out, "nonexistent.pbrt"},
+        {"render " + good + " --set path.max_depth=deep -o " + out, "path.max_depth"},
+        {"render " + good + " --set path.no_such_key=1 -o " + out, "path.no_such_key"},
+        {"render " + good + " --integrator magic -o " + out, "magic"},
+        {"render " + good + " --res 0x0 -o " + out, "film.width"},
+        {"render " + good + " --res 100000x100000 -o " + out, "film.width"},
+        {"render " + good + " --res 16000x16000 -o " + out, "too large"},
+        {"render " + good + " --config " + (d / "missing.json").string() + " -o " + out, "missing.json"},
+        {"compare " + (d / "a.exr").string() + " " + (d / "b.exr").string(), "a.exr"},
+    };
+    for (const auto& c : cases) {
+      auto r = run_restir(c.args);
+      CAPTURE(c.args);
+      CAPTURE(r.output);
+      CHECK(r.status != 0);
+      CHECK(count_lines(r.output) == 1);
+      CHECK(r.output.find("error") != std::string::npos);
+      CHECK(r.output.find(c.expect) != std::string::npos);
+      CHECK_FALSE(fs::exists(out));
+    }
+    fs::remove_all(d);
+  }
+
+  TEST_CASE("options lists every key; info and compare work") {
+    auto r = run_restir("options");
+    CHECK(r.status == 0);
+    for (const auto& [k, v] : option_values(Options{})) CHECK_MESSAGE(r.output.find(k) != std::string::npos, k);
+    auto info = run_restir("info " + shared_scene("cornell-box/scene-v4.pbrt"));
+    CHECK(info.status == 0);
+    CHECK(info.output.find("triangles") != std::string::npos);
+    fs::path d = temp_dir("cmp");
+    Image a(4, 4, Rgb(1)), b(4, 4, Rgb(1.5f));
+    write_exr((d / "a.exr").string(), a);
+    write_exr((d / "b.exr").string(), b);
+    auto c = run_restir("compare --json " + (d / "a.exr").string() + " " + (d / "b.exr").string());
+    CHECK(c.status == 0);
+    CHECK(c.output.find("\"mse\": 0.25") != std::string::npos);
+    fs::remove_all(d);
+  }
+}

@@ -1,0 +1,50 @@
+// Helpers shared by the integration tests: scene paths, small renders, running the CLI.
+#pragma once
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include "image/image.h"
+#include "integrators/options.h"
+#include "integrators/render.h"
+#include "scene/loader.h"
+
+namespace rl::test {
+
+inline std::string shared_scene(const std::string& rel) { return std::string(RESTIR_SHARED_DIR) + "/scenes/" + rel; }
+inline std::string own_scene(const std::string& rel) { return std::string(RESTIR_SOURCE_DIR) + "/scenes/" + rel; }
+
+// Options = defaults < scene hints < the given key=value settings.
+inline Options options_for(const Scene& scene, std::initializer_list<const char*> sets) {
+  Options o;
+  apply_scene_hints(o, scene.hints);
+  for (const char* s : sets) set_option_assignment(o, s);
+  return o;
+}
+
+inline double mean_channel(const Image& img, int c) {
+  double s = 0;
+  for (const Rgb& p : img.pixels) s += p[c];
+  return s / double(img.size());
+}
+
+struct CommandResult {
+  int status = -1;
+  std::string output;  // stdout + stderr
+};
+
+// Runs the restir binary with the given argument string (shell syntax).
+inline CommandResult run_restir(const std::string& args) {
+  CommandResult r;
+  std::string cmd = std::string(RESTIR_BIN) + " " + args + " 2>&1";
+  FILE* f = popen(cmd.c_str(), "r");
+  if (!f) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), f)) > 0) r.output.append(buf.data(), n);
+  int st = pclose(f);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+}  // namespace rl::test
