@@ -1,0 +1,100 @@
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "integrators/pixel_sampler.h"
+#include "scene/camera.h"
+
+using namespace rl;
+
+TEST_SUITE("pixel_sampler") {
+  TEST_CASE("stratified: every stratum of a frame gets exactly one sample") {
+    for (int spp : {1, 4, 9, 16, 6}) {
+      Pcg32 rng(3);
+      int nx = int(std::ceil(std::sqrt(float(spp)))), ny = (spp + nx - 1) / nx;
+      std::set<int> cells;
+      for (int s = 0; s < spp; ++s) {
+        Vec2 u = pattern_sample(SamplePattern::stratified, uint64_t(s), spp, 0, rng);
+        REQUIRE(u.x >= 0);
+        REQUIRE(u.x < 1);
+        REQUIRE(u.y >= 0);
+        REQUIRE(u.y < 1);
+        cells.insert(int(u.y * float(ny)) * nx + int(u.x * float(nx)));
+      }
+      CHECK(int(cells.size()) == spp);
+    }
+  }
+
+  TEST_CASE("halton: low discrepancy — each of the 4x4 cells gets one of the first 16 points (base 2 x 3 strata)") {
+    Pcg32 rng(1);
+    // Halton (2,3) without rotation: the first 2^k points stratify x into 2^k intervals.
+    std::set<int> xs;
+    for (uint64_t i = 0; i < 16; ++i) xs.insert(int(pattern_sample(SamplePattern::halton, i, 16, 0, rng).x * 16));
+    CHECK(xs.size() == 16);
+    // With a per-pixel rotation points stay in [0,1).
+    for (uint64_t i = 0; i < 1000; ++i) {
+      Vec2 u = pattern_sample(SamplePattern::halton, i, 4, 0x123456789abcdefULL, rng);
+      CHECK((u.x >= 0 && u.x < 1 && u.y >= 0 && u.y < 1));
+    }
+  }
+
+  TEST_CASE("msaa: the Direct3D standard patterns are centred and distinct") {
+    for (int n : {1, 2, 4, 8, 16}) {
+      CHECK(msaa_pattern_size(n) == n);
+      Vec2 sum{0, 0};
+      std::set<std::pair<float, float>> distinct;
+      for (int i = 0; i < n; ++i) {
+        Vec2 p = msaa_position(n, i);
+        CHECK((p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1));
+        sum = sum + (p - Vec2{0.5f, 0.5f});
+        distinct.insert({p.x, p.y});
+      }
+      CHECK(int(distinct.size()) == n);
+      CHECK(std::fabs(sum.x / float(n)) < 0.07f);
+      CHECK(std::fabs(sum.y / float(n)) < 0.07f);
+    }
+    CHECK(msaa_pattern_size(3) == 4);
+    CHECK(msaa_pattern_size(64) == 16);
+    CHECK(msaa_position(4, 0).x == doctest::Approx(0.5 - 2.0 / 16));
+  }
+
+  TEST_CASE("filters: box covers [-r, r], tent has its mean at 0 and mass near the centre") {
+    Pcg32 rng(9);
+    double mean = 0, inner = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      Vec2 o = filter_offset(PixelFilter::triangle, 1.0f, rng.next_2d(), rng);
+      REQUIRE(std::fabs(o.x) <= 1.0f);
+      mean += o.x;
+      inner += std::fabs(o.x) < 0.5f ? 1 : 0;
+      Vec2 b = filter_offset(PixelFilter::box, 0.5f, rng.next_2d(), rng);
+      REQUIRE(std::fabs(b.x) <= 0.5f);
+    }
+    CHECK(std::fabs(mean / n) < 0.02);
+    CHECK(inner / n == doctest::Approx(0.75).epsilon(0.03));  // tent: P(|x| < r/2) = 3/4
+  }
+}
+
+TEST_SUITE("camera") {
+  TEST_CASE("camera path: keys are spread over the frames and interpolated") {
+    namespace fs = std::filesystem;
+    fs::path p = fs::temp_directory_path() / ("restir-cam-" + std::to_string(::getpid()) + ".json");
+    std::ofstream(p) << R"({"keys": [{"eye": [0,0,0], "target": [0,0,1], "fov": 30},
+                                      {"eye": [2,0,0], "target": [2,0,1], "fov": 50}]})";
+    Camera cam;
+    load_camera_path(p.string(), cam);
+    REQUIRE(cam.keys.size() == 2);
+    auto position = [&](int f, int n) { return PerspectiveCamera(cam.at_frame(f, n), 8, 8).position(); };
+    CHECK(position(0, 5).x == doctest::Approx(0));
+    CHECK(position(4, 5).x == doctest::Approx(2));
+    CHECK(position(2, 5).x == doctest::Approx(1));
+    CHECK(cam.at_frame(2, 5).fov_degrees == doctest::Approx(40));
+    std::ofstream(p) << R"({"keys": [{"eye": [0,0,0], "target": [0,0,0]}]})";
+    CHECK_THROWS(load_camera_path(p.string(), cam));
+    std::ofstream(p) << R"({"frames": []})";
+    CHECK_THROWS(load_camera_path(p.string(), cam));
+    fs::remove(p);
+  }
+}
