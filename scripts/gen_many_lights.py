@@ -12,6 +12,7 @@ hall is reasonably exposed with the default tonemapping. Deterministic: fixed se
 Usage: python3 scripts/gen_many_lights.py [--spheres 2400] [--quads 600] [--seed 20241123]
 """
 import argparse
+import json
 import math
 import os
 import random
@@ -25,6 +26,13 @@ DECADES = 3.5
 TOTAL_POWER = 900.0   # W-ish (scene units), summed over all emitters
 SPHERE_RADIUS = 0.05
 QUAD_SIZE = 0.12
+
+# The camera animation (scenes/many-lights.camera.json, also written here): emitters keep
+# CAMERA_CLEARANCE away from its path.
+CAMERA_KEYS = [((0.0, 2.4, -5.7), (0.0, 1.2, 2.5)), ((-2.5, 2.6, -5.3), (-0.8, 1.2, 2.5)),
+               ((-4.5, 2.8, -4.6), (-1.5, 1.3, 2.5)), ((-7.0, 3.0, -4.2), (-2.0, 1.4, 2.5))]
+CAMERA_FOV = 55
+CAMERA_CLEARANCE = 0.5
 
 # Occluders: (lo, hi) boxes.
 PILLARS = [((x - 0.3, 0.0, z - 0.3), (x + 0.3, HEIGHT, z + 0.3)) for x in (-6.0, -2.0, 2.0, 6.0) for z in (-1.0, 3.0)]
@@ -55,6 +63,16 @@ def blocked(x, y, z, r, boxes):
     m = r + 0.05
     for lo, hi in boxes:
         if lo[0] - m < x < hi[0] + m and lo[2] - m < z < hi[2] + m and y - m < hi[1]:
+            return True
+    return False
+
+
+def near_camera_path(p):
+    for (a, _), (b, _) in zip(CAMERA_KEYS, CAMERA_KEYS[1:]):
+        ab = [b[k] - a[k] for k in range(3)]
+        t = sum((p[k] - a[k]) * ab[k] for k in range(3)) / sum(c * c for c in ab)
+        t = min(max(t, 0.0), 1.0)
+        if math.dist(p, [a[k] + t * ab[k] for k in range(3)]) < CAMERA_CLEARANCE:
             return True
     return False
 
@@ -101,7 +119,7 @@ def main():
                 else:
                     x, y, z = rng.uniform(X0, X1), rng.uniform(0.3, HEIGHT - 0.4), rng.uniform(Z0, Z1)
                 if (X0 + 0.2 < x < X1 - 0.2 and Z0 + 0.2 < z < Z1 - 0.2 and 0.15 < y < HEIGHT - 0.2
-                        and not blocked(x, y, z, r, boxes)):
+                        and not blocked(x, y, z, r, boxes) and not near_camera_path((x, y, z))):
                     break
             area = 4 * math.pi * r * r
             emitters.append(("sphere", (x, y, z), powers[k] / (math.pi * area), col, area))
@@ -129,8 +147,8 @@ def main():
 # Tests: light selection with thousands of lights (uniform vs power-proportional vs ReSTIR DI
 # resampling), occlusion-heavy visibility (pillars), temporal reuse under camera motion.
 
-LookAt 0 2.4 -5.7   0 1.2 2.5   0 1 0
-Camera "perspective" "float fov" 55
+LookAt {fmt3(CAMERA_KEYS[0][0])}   {fmt3(CAMERA_KEYS[0][1])}   0 1 0
+Camera "perspective" "float fov" {CAMERA_FOV}
 Film "rgb" "integer xresolution" 640 "integer yresolution" 360
 Sampler "independent" "integer pixelsamples" 64
 Integrator "path" "integer maxdepth" 6
@@ -174,6 +192,9 @@ AttributeBegin
     text = "".join(out)
     with open(path, "w") as f:
         f.write(text)
+    keys = [{"eye": list(e), "target": list(t), "up": [0, 1, 0], "fov": CAMERA_FOV} for e, t in CAMERA_KEYS]
+    with open(os.path.join(os.path.dirname(path), "many-lights.camera.json"), "w") as f:
+        f.write('{"keys": [\n' + ",\n".join("  " + json.dumps(k) for k in keys) + "\n]}\n")
     pa = [L * area * math.pi for _, _, L, _, area in emitters]
     print(f"many-lights.pbrt: {len(emitters)} emitters ({args.spheres} spheres, {args.quads} quads), "
           f"power {min(pa):.4g} .. {max(pa):.4g} (ratio {max(pa) / min(pa):.0f}), total {sum(pa):.1f}, "

@@ -315,7 +315,7 @@ def sweep_backdrop():
     m = Mesh()
     for (y0, z0), (y1, z1) in zip(prof, prof[1:]):
         facing = (0, z1 - z0, -(y1 - y0))  # +y on the floor, -z on the wall
-        m.add_quad((-12, y0, z0), (12, y0, z0), (12, y1, z1), (-12, y1, z1), facing)
+        m.add_quad((-20, y0, z0), (20, y0, z0), (20, y1, z1), (-20, y1, z1), facing)
     return m
 
 
