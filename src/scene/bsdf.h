@@ -1,0 +1,51 @@
+// Materials resolved at a hit point: evaluation, sampling and pdf of the BSDF (pbrt-v4 semantics:
+// DiffuseBxDF, ConductorBxDF, DielectricBxDF, radiance transport).
+//
+// Conventions
+// - All directions are in the local shading frame (+z = shading normal) and point AWAY from the
+//   surface. wo may be in the lower hemisphere (inside a dielectric, or the back of a surface).
+// - Diffuse and conductor are two-sided like pbrt-v4 (non-zero only when wo and wi lie in the same
+//   hemisphere; sampling mirrors to wo's side). Called with wo.z > 0 they reflect into z > 0 only.
+// - bsdf_eval returns f WITHOUT the cosine; bsdf_pdf is the solid-angle pdf of bsdf_sample.
+// - Delta lobes: bsdf_eval/bsdf_pdf return 0; bsdf_sample returns is_delta, f = weight / |cos wi|
+//   and pdf = the discrete probability of choosing that lobe, so f |cos wi| / pdf is the throughput.
+// - Refraction scales radiance by 1/eta^2 (radiance transport, PBR4 sec. 9.5.2).
+// - No function returns NaN/Inf, for any pair of directions (grazing and z == 0 included).
+#pragma once
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+struct Bsdf {                      // resolved at a hit point from a Material (+ texture lookup)
+  Material::Type type = Material::Type::diffuse;
+  Rgb reflectance{0.5f};           // diffuse albedo, or conductor normal-incidence colour if use_reflectance
+  Rgb eta{1}, k{0};
+  bool use_reflectance = false;
+  float ior = 1.5f;                // dielectric (outside medium is 1); <= 1.0001 = index-matched, passes straight through
+  float alpha_x = 0, alpha_y = 0;  // GGX; both < 1e-3 => treated as perfectly smooth (delta)
+};
+
+// reflectance = texture value or m.reflectance. Rough alphas are clamped to >= 1e-4 on both axes
+// (pbrt-v4: an anisotropic lobe with one near-zero axis makes D blow up).
+Bsdf make_bsdf(const Material& m, Rgb reflectance);
+
+struct BsdfSample {
+  Vec3 wi;
+  Rgb f;          // WITHOUT the cosine; for delta lobes the delta's weight / |cos wi|
+  float pdf = 0;  // solid angle, or the lobe probability for delta lobes
+  bool is_delta = false;
+};
+
+Rgb bsdf_eval(const Bsdf&, Vec3 wo, Vec3 wi);    // 0 for delta lobes
+float bsdf_pdf(const Bsdf&, Vec3 wo, Vec3 wi);   // solid-angle pdf of bsdf_sample; 0 for delta lobes
+// u_lobe picks reflection vs transmission (dielectric), u the direction. false = no sample.
+bool bsdf_sample(const Bsdf&, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out);
+bool bsdf_is_delta(const Bsdf&);                 // every lobe is a delta (smooth conductor/dielectric)
+float bsdf_roughness(const Bsdf&);               // 1 for diffuse, sqrt(alpha_x*alpha_y) otherwise
+
+// Conductor Fresnel term actually used (exact complex Fresnel; with use_reflectance the colour r
+// is turned into eta = 1, k = 2 sqrt(r / (1 - r)) so that F(0) = r exactly, as pbrt-v4 does).
+Rgb bsdf_conductor_fresnel(const Bsdf&, float cos_i);
+
+}  // namespace rl

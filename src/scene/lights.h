@@ -1,0 +1,113 @@
+// The scene's emitters as one list for light sampling: one emitter per emissive triangle, per
+// emissive sphere, per point light, and one for the environment. Selection by emitted power
+// (alias table) or uniformly; point sampling per emitter; solid-angle pdfs for MIS.
+//
+// Conventions
+// - Triangle geometric normal: scene.h's triangle_normal() (normalize(cross(p1 - p0, p2 - p0)),
+//   negated when flip_normal; shading normals decide when present). Sphere: (p - c) / r, negated
+//   when flip_normal. Emission leaves on the normal's side only, unless two_sided.
+// - A sample that would carry no radiance (the back of a one-sided emitter, a zero-area triangle,
+//   a degenerate configuration) is reported as "no sample" (false), and pdf() is 0 for exactly
+//   those points, so pdf() is the density of the samples sample() returns.
+// - Environment maps (light space, then world_from_light):
+//   * equirect (pbrt-v3 InfiniteAreaLight convention, +z up in light space):
+//     u = phi / 2pi with phi = atan2(y, x) in [0, 2pi), v = theta / pi with theta = acos(z);
+//     texel (floor(u W), floor(v H)), row 0 at the top of the image (v = 0 is +z).
+//     Sampling density over (u, v) is luminance * sin(theta_row centre); pdf_dir = pdf_uv / (2 pi^2 sin theta).
+//   * equal_area: pbrt-v4's equal-area octahedral map (Clarberg 2008), (u, v) = EqualAreaSphereToSquare(w),
+//     texel (floor(u W), floor(v H)) with row 0 at v = 0 (pbrt-v4 image lookup); pdf_dir = pdf_uv / 4pi.
+//   * Nearest-texel lookup: radiance is piecewise constant on the texels, so the piecewise-constant
+//     sampling pdf is exactly proportional to the luminance (times the mapping's Jacobian).
+//   * constant: uniform sphere sampling, pdf 1 / 4pi.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+#include "core/sampling.h"
+#include "integrators/options.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+inline constexpr uint32_t kNoEmitter = 0xffffffffu;
+
+struct LightSample {
+  Rgb radiance;       // emitted radiance arriving along -wi (intensity / dist^2 for point lights); NOT divided by pdf
+  Vec3 wi;            // unit direction from the shading point toward the light
+  float distance = 0; // to the light point (kInfinity for the environment)
+  float pdf = 0;      // solid-angle pdf INCLUDING the selection probability; point lights: the selection probability
+  bool is_delta = false;  // point light
+  Vec3 position, normal;  // on the light (normal zero for point / environment; environment: position = wi)
+  uint32_t emitter = kNoEmitter;
+};
+
+// pbrt-v4's equal-area square <-> sphere mapping (Clarberg 2008, "Fast Equal-Area Mapping of the
+// (Hemi)Sphere using SIMD"); p in [0,1]^2. Exposed for tests and the scene loader.
+Vec3 equal_area_square_to_sphere(Vec2 p);
+Vec2 equal_area_sphere_to_square(Vec3 w);
+
+class Lights {
+ public:
+  enum class Kind : uint8_t { triangle, sphere, point, environment };
+
+  Lights() = default;
+  Lights(const Scene& scene, LightSelection selection);
+
+  size_t emitter_count() const { return emitters_.size(); }
+  bool empty() const { return emitters_.empty(); }
+
+  // Sample a light for the shading point p: u_select picks the emitter (alias table over power, or
+  // uniform), u the point on it. false = no sample (no lights, or zero radiance toward p).
+  bool sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const;
+  // Solid-angle pdf at p of sample() producing light_p on emitter e (with the selection pmf).
+  // Point lights: 0. Environment emitter: light_p is taken as the direction (as in LightSample).
+  // light_n is unused: the emitter's own geometric normal is used (the same as sample()).
+  float pdf(uint32_t emitter, Vec3 p, Vec3 light_p, Vec3 light_n) const;
+  float environment_pdf(Vec3 dir) const;      // includes the selection probability; 0 without environment
+  Rgb environment_radiance(Vec3 dir) const;   // radiance arriving from direction dir; 0 without environment
+  bool has_environment() const { return env_emitter_ != kNoEmitter; }
+  uint32_t environment_emitter() const { return env_emitter_; }
+
+  uint32_t triangle_emitter(uint32_t mesh, uint32_t triangle) const;
+  uint32_t sphere_emitter(uint32_t sphere) const;
+  // Radiance leaving an emitter's surface point with (flip-resolved) geometric normal n toward w.
+  // Environment emitter: environment_radiance(-w); point lights: 0.
+  Rgb emitted(uint32_t emitter, Vec3 n, Vec3 w) const;
+  float selection_pmf(uint32_t emitter) const;
+  float power(uint32_t emitter) const { return emitter < emitters_.size() ? emitters_[emitter].power : 0.0f; }
+  Kind kind(uint32_t emitter) const { return emitters_[emitter].kind; }
+
+ private:
+  struct Emitter {
+    Kind kind = Kind::triangle;
+    Vec3 p0, p1, p2;      // triangle vertices; sphere: p0 = centre; point: p0 = position
+    Vec3 n;               // triangle geometric normal
+    float area = 0;       // triangle area; sphere: radius in `radius`
+    float radius = 0;
+    bool flip = false;    // sphere normals inward
+    bool two_sided = false;
+    Rgb radiance;         // L (area emitters) or I (point light)
+    float power = 0;
+  };
+  bool sample_triangle(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) const;
+  bool sample_sphere(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) const;
+  bool sample_environment(Vec2 u, LightSample& out) const;
+  float environment_pdf_unselected(Vec3 dir) const;
+  Rgb emitted_by(const Emitter& e, Vec3 n, Vec3 w) const;
+
+  std::vector<Emitter> emitters_;
+  AliasTable selection_;
+  std::vector<uint32_t> mesh_first_;     // per mesh: first emitter index or kNoEmitter
+  std::vector<uint32_t> sphere_index_;   // per sphere: emitter index or kNoEmitter
+  uint32_t env_emitter_ = kNoEmitter;
+
+  // Environment
+  EnvironmentLight::Mapping env_mapping_ = EnvironmentLight::Mapping::constant;
+  Rgb env_scale_{0};
+  Image env_image_;
+  Mat4 env_world_from_light_, env_light_from_world_;
+  Distribution2D env_distribution_;
+};
+
+}  // namespace rl
