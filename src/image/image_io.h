@@ -20,7 +20,9 @@ namespace rl {
 //        3.1 supports (incl. DWAA/DWAB). Channels: R,G,B if present (a missing one of the three
 //        reads as 0); else luminance/chroma Y,RY,BY (converted by OpenEXR's RgbaInputFile); else
 //        Y alone (grey). Other channels (A, depth, AOVs) are ignored. The image is the data
-//        window; pixel (0,0) is the data window's min corner.
+//        window; pixel (0,0) is the data window's min corner. Values are returned as stored:
+//        lossy DWAA/DWAB files can hold small negative values from DCT ringing (the shared env
+//        maps have ~0.2% such pixels, min ~ -0.003); consumers needing >= 0 must clamp.
 //  .png/.jpg/.jpeg/.bmp/.tga  via stb_image, 8 or 16 bit, decoded from sRGB to linear
 //        (IEC 61966-2-1); grey is replicated to RGB; alpha is dropped (not premultiplied).
 //  .hdr  Radiance RGBE via stb_image, linear as stored.
