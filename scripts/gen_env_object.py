@@ -63,7 +63,7 @@ AttributeEnd
 # A glass sphere on the ground, front right
 AttributeBegin
   NamedMaterial "glass"
-  Translate 1.5 0.35 -0.9
+  Translate 1.1 0.35 -1.0
   Shape "sphere" "float radius" 0.35
 AttributeEnd
 """)

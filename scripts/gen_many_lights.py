@@ -32,7 +32,7 @@ QUAD_SIZE = 0.12
 CAMERA_KEYS = [((0.0, 2.4, -5.7), (0.0, 1.2, 2.5)), ((-2.5, 2.6, -5.3), (-0.8, 1.2, 2.5)),
                ((-4.5, 2.8, -4.6), (-1.5, 1.3, 2.5)), ((-7.0, 3.0, -4.2), (-2.0, 1.4, 2.5))]
 CAMERA_FOV = 55
-CAMERA_CLEARANCE = 0.5
+CAMERA_CLEARANCE = 1.0
 
 # Occluders: (lo, hi) boxes.
 PILLARS = [((x - 0.3, 0.0, z - 0.3), (x + 0.3, HEIGHT, z + 0.3)) for x in (-6.0, -2.0, 2.0, 6.0) for z in (-1.0, 3.0)]

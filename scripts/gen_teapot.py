@@ -330,7 +330,7 @@ def write_scene(path):
 # Roughness: conductors say "remaproughness" false, so "roughness" is the GGX alpha; the
 # dielectric uses pbrt-v4's default remapping (alpha = sqrt(roughness)).
 
-LookAt 0 2.3 -8.5   0 0.55 0.8   0 1 0
+LookAt 0 1.9 -6.7   0 0.5 0.6   0 1 0
 Camera "perspective" "float fov" 30
 Film "rgb" "integer xresolution" 640 "integer yresolution" 360
 Sampler "independent" "integer pixelsamples" 64
@@ -359,7 +359,7 @@ AttributeBegin
 # Dim fill from an interior environment map (CC0, ../shared); +z of the map turned to +y.
 AttributeBegin
   Rotate -90 1 0 0
-  LightSource "infinite" "string filename" "../../shared/scenes/envmaps/interior.exr" "float scale" 0.4
+  LightSource "infinite" "string filename" "../../shared/scenes/envmaps/interior.exr" "float scale" 0.3
 AttributeEnd
 
 AttributeBegin
@@ -368,11 +368,11 @@ AttributeBegin
     s.append(sweep_backdrop().pbrt())
     s.append("AttributeEnd\n\n")
     # back row of three, front row of two; yaw turns the spouts a little toward the camera
-    s.append(teapot_instance(-2.6, 1.4, 20, "gold-glossy", "glossy conductor (gold, alpha 0.08)"))
+    s.append(teapot_instance(-2.3, 1.4, 20, "gold-glossy", "glossy conductor (gold, alpha 0.08)"))
     s.append(teapot_instance(0.0, 1.6, 0, "glass-smooth", "smooth glass (eta 1.5)"))
-    s.append(teapot_instance(2.6, 1.4, -20, "copper-rough", "rough conductor (copper, alpha 0.3)"))
-    s.append(teapot_instance(-1.35, -0.6, 30, "glass-rough", "rough glass (eta 1.5, roughness 0.05)"))
-    s.append(teapot_instance(1.35, -0.6, -30, "diffuse-blue", "diffuse"))
+    s.append(teapot_instance(2.3, 1.4, -20, "copper-rough", "rough conductor (copper, alpha 0.3)"))
+    s.append(teapot_instance(-1.15, -0.7, 30, "glass-rough", "rough glass (eta 1.5, roughness 0.05)"))
+    s.append(teapot_instance(1.15, -0.7, -30, "diffuse-blue", "diffuse"))
     with open(path, "w") as f:
         f.write("".join(s))
 
