@@ -1,0 +1,280 @@
+#include "scene/ply.h"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "scene/loader.h"
+
+namespace rl {
+namespace {
+
+enum class PType { i8, u8, i16, u16, i32, u32, f32, f64, invalid };
+
+PType parse_ptype(const std::string& s) {
+  if (s == "char" || s == "int8") return PType::i8;
+  if (s == "uchar" || s == "uint8") return PType::u8;
+  if (s == "short" || s == "int16") return PType::i16;
+  if (s == "ushort" || s == "uint16") return PType::u16;
+  if (s == "int" || s == "int32") return PType::i32;
+  if (s == "uint" || s == "uint32") return PType::u32;
+  if (s == "float" || s == "float32") return PType::f32;
+  if (s == "double" || s == "float64") return PType::f64;
+  return PType::invalid;
+}
+
+int ptype_size(PType t) {
+  switch (t) {
+    case PType::i8: case PType::u8: return 1;
+    case PType::i16: case PType::u16: return 2;
+    case PType::i32: case PType::u32: case PType::f32: return 4;
+    case PType::f64: return 8;
+    default: return 0;
+  }
+}
+
+struct Property {
+  std::string name;
+  PType type = PType::f32;
+  bool is_list = false;
+  PType count_type = PType::u8;
+};
+
+struct Element {
+  std::string name;
+  size_t count = 0;
+  std::vector<Property> props;
+};
+
+enum class Format { ascii, binary_le, binary_be };
+
+class Reader {
+ public:
+  Reader(const std::string& path, std::istream& in, Format f, int line) : path_(path), in_(in), fmt_(f), line_(line) {}
+
+  double read(PType t) {
+    if (fmt_ == Format::ascii) return read_ascii();
+    unsigned char b[8];
+    int n = ptype_size(t);
+    if (!in_.read(reinterpret_cast<char*>(b), n)) throw SceneError(path_, 0, "unexpected end of binary data");
+    bool little = true;
+    {
+      uint16_t one = 1;
+      unsigned char c;
+      std::memcpy(&c, &one, 1);
+      little = c == 1;
+    }
+    bool file_le = fmt_ == Format::binary_le;
+    if (little != file_le) std::reverse(b, b + n);
+    switch (t) {
+      case PType::i8: { int8_t v; std::memcpy(&v, b, 1); return v; }
+      case PType::u8: return b[0];
+      case PType::i16: { int16_t v; std::memcpy(&v, b, 2); return v; }
+      case PType::u16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
+      case PType::i32: { int32_t v; std::memcpy(&v, b, 4); return v; }
+      case PType::u32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
+      case PType::f32: { float v; std::memcpy(&v, b, 4); return v; }
+      case PType::f64: { double v; std::memcpy(&v, b, 8); return v; }
+      default: return 0;
+    }
+  }
+  // ASCII: one element per line; tokens are read line by line so errors name the line.
+  void begin_element() {
+    if (fmt_ != Format::ascii) return;
+    std::string s;
+    do {
+      if (!std::getline(in_, s)) throw SceneError(path_, line_ + 1, "unexpected end of file (more elements declared)");
+      ++line_;
+    } while (s.find_first_not_of(" \t\r") == std::string::npos);
+    ls_.clear();
+    ls_.str(s);
+  }
+  int line() const { return line_; }
+
+ private:
+  double read_ascii() {
+    std::string tok;
+    if (!(ls_ >> tok)) throw SceneError(path_, line_, "too few values on line");
+    try {
+      size_t pos = 0;
+      double v = std::stod(tok, &pos);
+      if (pos != tok.size()) throw std::invalid_argument(tok);
+      return v;
+    } catch (const std::exception&) {
+      throw SceneError(path_, line_, "bad number '" + tok + "'");
+    }
+  }
+  const std::string& path_;
+  std::istream& in_;
+  Format fmt_;
+  int line_;
+  std::istringstream ls_;
+};
+
+}  // namespace
+
+PlyMesh read_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, 0, "cannot open PLY file");
+  std::string line;
+  int lineno = 0;
+  auto next_line = [&]() -> bool {
+    if (!std::getline(in, line)) return false;
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  if (!next_line() || line != "ply") throw SceneError(path, 1, "not a PLY file (missing 'ply' magic)");
+  Format fmt = Format::ascii;
+  bool have_format = false;
+  std::vector<Element> elements;
+  for (;;) {
+    if (!next_line()) throw SceneError(path, lineno, "unexpected end of file in PLY header");
+    std::istringstream ls(line);
+    std::string kw;
+    ls >> kw;
+    if (kw.empty() || kw == "comment" || kw == "obj_info") continue;
+    if (kw == "end_header") break;
+    if (kw == "format") {
+      std::string f, ver;
+      ls >> f >> ver;
+      if (f == "ascii") fmt = Format::ascii;
+      else if (f == "binary_little_endian") fmt = Format::binary_le;
+      else if (f == "binary_big_endian") fmt = Format::binary_be;
+      else throw SceneError(path, lineno, "unknown PLY format '" + f + "'");
+      have_format = true;
+    } else if (kw == "element") {
+      Element e;
+      long long count = -1;
+      ls >> e.name >> count;
+      if (e.name.empty() || count < 0) throw SceneError(path, lineno, "malformed element line");
+      e.count = size_t(count);
+      elements.push_back(e);
+    } else if (kw == "property") {
+      if (elements.empty()) throw SceneError(path, lineno, "property before any element");
+      Property p;
+      std::string t;
+      ls >> t;
+      if (t == "list") {
+        std::string ct, it;
+        ls >> ct >> it >> p.name;
+        p.is_list = true;
+        p.count_type = parse_ptype(ct);
+        p.type = parse_ptype(it);
+        if (p.count_type == PType::invalid || p.type == PType::invalid || p.count_type == PType::f32 ||
+            p.count_type == PType::f64)
+          throw SceneError(path, lineno, "bad list property types '" + ct + " " + it + "'");
+      } else {
+        ls >> p.name;
+        p.type = parse_ptype(t);
+        if (p.type == PType::invalid) throw SceneError(path, lineno, "unknown property type '" + t + "'");
+      }
+      if (p.name.empty()) throw SceneError(path, lineno, "property without a name");
+      elements.back().props.push_back(p);
+    } else {
+      throw SceneError(path, lineno, "unknown PLY header keyword '" + kw + "'");
+    }
+  }
+  if (!have_format) throw SceneError(path, lineno, "PLY header has no format line");
+
+  PlyMesh mesh;
+  bool have_vertices = false, have_faces = false;
+  Reader rd(path, in, fmt, lineno);
+  for (const Element& e : elements) {
+    if (e.name == "vertex") {
+      have_vertices = true;
+      int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1;
+      for (size_t i = 0; i < e.props.size(); ++i) {
+        const std::string& n = e.props[i].name;
+        int k = int(i);
+        if (e.props[i].is_list) continue;
+        if (n == "x") ix = k;
+        else if (n == "y") iy = k;
+        else if (n == "z") iz = k;
+        else if (n == "nx") inx = k;
+        else if (n == "ny") iny = k;
+        else if (n == "nz") inz = k;
+        else if (n == "u" || n == "s" || n == "texture_u" || n == "texture_s") iu = k;
+        else if (n == "v" || n == "t" || n == "texture_v" || n == "texture_t") iv = k;
+      }
+      if (ix < 0 || iy < 0 || iz < 0) throw SceneError(path, 0, "vertex element lacks x, y or z");
+      bool has_n = inx >= 0 && iny >= 0 && inz >= 0, has_uv = iu >= 0 && iv >= 0;
+      mesh.positions.resize(e.count);
+      if (has_n) mesh.normals.resize(e.count);
+      if (has_uv) mesh.uvs.resize(e.count);
+      std::vector<double> vals(e.props.size());
+      for (size_t v = 0; v < e.count; ++v) {
+        rd.begin_element();
+        for (size_t i = 0; i < e.props.size(); ++i) {
+          const Property& p = e.props[i];
+          if (p.is_list) {
+            double c = rd.read(p.count_type);
+            if (c < 0 || c > 1e6) throw SceneError(path, rd.line(), "bad list length");
+            for (int j = 0; j < int(c); ++j) rd.read(p.type);
+            vals[i] = 0;
+          } else {
+            vals[i] = rd.read(p.type);
+          }
+        }
+        mesh.positions[v] = Vec3(float(vals[size_t(ix)]), float(vals[size_t(iy)]), float(vals[size_t(iz)]));
+        if (has_n) mesh.normals[v] = Vec3(float(vals[size_t(inx)]), float(vals[size_t(iny)]), float(vals[size_t(inz)]));
+        if (has_uv) mesh.uvs[v] = Vec2(float(vals[size_t(iu)]), float(vals[size_t(iv)]));
+      }
+    } else if (e.name == "face") {
+      have_faces = true;
+      int ii = -1;
+      for (size_t i = 0; i < e.props.size(); ++i)
+        if (e.props[i].is_list && (e.props[i].name == "vertex_indices" || e.props[i].name == "vertex_index")) ii = int(i);
+      if (ii < 0) throw SceneError(path, 0, "face element lacks a vertex_indices list");
+      std::vector<uint32_t> poly;
+      for (size_t f = 0; f < e.count; ++f) {
+        rd.begin_element();
+        for (size_t i = 0; i < e.props.size(); ++i) {
+          const Property& p = e.props[i];
+          if (!p.is_list) {
+            rd.read(p.type);
+            continue;
+          }
+          double c = rd.read(p.count_type);
+          if (c < 0 || c > 1e6) throw SceneError(path, rd.line(), "bad list length");
+          poly.clear();
+          for (int j = 0; j < int(c); ++j) {
+            double x = rd.read(p.type);
+            if (int(i) == ii) {
+              if (x < 0 || x >= double(mesh.positions.size()))
+                throw SceneError(path, rd.line(), "face " + std::to_string(f) + ": vertex index " +
+                                                      std::to_string((long long)x) + " out of range");
+              poly.push_back(uint32_t(x));
+            }
+          }
+          if (int(i) != ii) continue;
+          if (poly.size() < 3) throw SceneError(path, rd.line(), "face " + std::to_string(f) + " has fewer than 3 vertices");
+          for (size_t j = 1; j + 1 < poly.size(); ++j) {  // fan: quads -> (0,1,2), (0,2,3)
+            mesh.indices.push_back(poly[0]);
+            mesh.indices.push_back(poly[j]);
+            mesh.indices.push_back(poly[j + 1]);
+          }
+        }
+      }
+    } else {
+      for (size_t k = 0; k < e.count; ++k) {  // skip
+        rd.begin_element();
+        for (const Property& p : e.props) {
+          if (p.is_list) {
+            double c = rd.read(p.count_type);
+            if (c < 0 || c > 1e6) throw SceneError(path, rd.line(), "bad list length");
+            for (int j = 0; j < int(c); ++j) rd.read(p.type);
+          } else {
+            rd.read(p.type);
+          }
+        }
+      }
+    }
+  }
+  if (!have_vertices) throw SceneError(path, 0, "PLY file has no vertex element");
+  if (!have_faces) throw SceneError(path, 0, "PLY file has no face element");
+  return mesh;
+}
+
+}  // namespace rl
