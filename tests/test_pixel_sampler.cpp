@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <unistd.h>
 
 #include "integrators/pixel_sampler.h"
 #include "scene/camera.h"
