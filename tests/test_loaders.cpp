@@ -11,6 +11,7 @@
 #include <set>
 #include <unistd.h>
 
+#include "image/image_io.h"
 #include "scene/loader.h"
 #include "scene/pbrt_tokenizer.h"
 #include "scene/ply.h"
@@ -543,4 +544,42 @@ TEST_CASE("pbrt: blackbody and named spectra helpers") {
   CHECK_FALSE(pbrt::named_spectrum_rgb("metal-Zz-k").has_value());
 }
 
+}  // TEST_SUITE
+
+TEST_SUITE("loaders") {
+TEST_CASE("pbrt: image textures and environment maps through the image module") {
+  fs::path d = temp_dir();
+  Image sq(4, 4, Rgb(0.25f)), wide(8, 4, Rgb(2)), odd(9, 3, Rgb(1));
+  sq.at(0, 0) = Rgb(1, 0, 0);
+  write_exr((d / "sq.exr").string(), sq);
+  write_exr((d / "wide.exr").string(), wide);
+  write_exr((d / "odd.exr").string(), odd);
+  Scene s = load_scene(write_file(d / "a.pbrt", kWorld +
+      "Rotate 90 1 0 0 LightSource \"infinite\" \"string filename\" \"sq.exr\" \"float scale\" 3\n"
+      "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"wide.exr\" \"float scale\" 0.5 \"float uscale\" 2\n"
+      "Material \"diffuse\" \"texture reflectance\" \"img\"\n"
+      "Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"img\" \"float scale\" 2\n"));
+  REQUIRE(s.environment);
+  CHECK(s.environment->mapping == EnvironmentLight::Mapping::equal_area);
+  CHECK(near(s.environment->radiance, Vec3(3)));
+  CHECK(s.environment->image.width == 4);
+  CHECK(near(s.environment->image.at(0, 0), Vec3(1, 0, 0)));
+  CHECK(near(s.environment->world_from_light.apply_vector(Vec3(0, 1, 0)), Vec3(0, 0, 1)));
+  REQUIRE(s.textures.size() == 2);
+  CHECK(s.textures[0].kind == Texture::Kind::image);
+  CHECK(s.textures[0].uscale == 2);
+  CHECK(near(s.textures[0].image.at(3, 2), Vec3(1)));  // 2 * scale 0.5
+  CHECK(near(s.textures[1].image.at(3, 2), Vec3(2)));  // scale texture: 2 * 1
+  CHECK(s.materials.back().reflectance_texture == 0);
+  Scene e = load_scene(write_file(d / "b.pbrt", kWorld + "LightSource \"infinite\" \"string filename\" \"wide.exr\"\n"));
+  CHECK(e.environment->mapping == EnvironmentLight::Mapping::equirect);
+  std::string w = error_of(kWorld + "\nLightSource \"infinite\" \"string filename\" \"" + (d / "odd.exr").string() + "\"\n");
+  CHECK(w.find("bad.pbrt:4: infinite light: image") != std::string::npos);
+  w = error_of(kWorld + "LightSource \"infinite\" \"rgb L\" [1 1 1] \"string filename\" \"" + (d / "sq.exr").string() + "\"\n");
+  CHECK(w.find("bad.pbrt:3:") != std::string::npos);
+  // A file that exists but is not an image: the image module's error, with our file:line.
+  write_file(d / "junk.exr", "not an exr");
+  w = error_of(kWorld + "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"" + (d / "junk.exr").string() + "\"\n");
+  CHECK(w.find("bad.pbrt:3: cannot read image") != std::string::npos);
+}
 }  // TEST_SUITE
