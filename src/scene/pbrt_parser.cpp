@@ -78,9 +78,7 @@ class Parser {
   }
 
  private:
-  void warn(const Token& t, const std::string& msg) {
-    std::fprintf(stderr, "%s:%d: warning: %s\n", t.file ? t.file->c_str() : "?", t.line, msg.c_str());
-  }
+  void warn(const Token& t, const std::string& msg) { pbrt::warn(t, msg); }
   std::string expect_string(const Token& d) {
     Token t = tok_.next();
     if (t.kind != Kind::string) d.fail(d.text + ": expected a quoted string argument");
@@ -336,14 +334,22 @@ class Parser {
   }
 
   // Defined in the second half of this file.
-  int add_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl);
+  int add_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl) {
+    scene_.materials.push_back(pbrt::make_material(d, type, name, pl, tex_names_, scene_.textures));
+    return int(scene_.materials.size()) - 1;
+  }
   void texture(const Token& d, const std::string& name, const std::string& type, const std::string& cls,
-               const ParamList& pl);
+               const ParamList& pl) {
+    if (type != "spectrum" && type != "float") d.fail("Texture: type must be \"spectrum\" or \"float\", got '" + type + "'");
+    auto& names = type == "spectrum" ? tex_names_.spectrum : tex_names_.floats;
+    if (names.count(name)) d.fail("texture '" + name + "' redefined");
+    auto res = [&](const std::string& f) { return resolve(f, d, false); };
+    scene_.textures.push_back(pbrt::make_texture(d, name, cls, pl, tex_names_, scene_.textures, res));
+    names[name] = int(scene_.textures.size()) - 1;
+  }
   void light(const Token& d, const std::string& type, const ParamList& pl);
   void shape(const Token& d, const std::string& type, const ParamList& pl);
   void instantiate(const Token& d, const Instance& inst);
-  Rgb tex_value(const ParamList& pl, const std::string& name, Rgb def);
-  int reflectance_texture(const Token& d, const ParamList& pl, const std::string& name);
 
   pbrt::Tokenizer tok_;
   std::string main_path_;
@@ -355,7 +361,8 @@ class Parser {
   std::vector<Pushed> stack_;
   bool in_world_ = false, warned_filename_ = false;
   std::map<std::string, std::array<Mat4, 2>> named_cs_;
-  std::map<std::string, int> named_mat_, spectrum_tex_, float_tex_;
+  std::map<std::string, int> named_mat_;
+  pbrt::NamedTextures tex_names_;
   std::map<std::string, Instance> instances_;
   Instance* current_instance_ = nullptr;
 };
@@ -371,160 +378,6 @@ bool uniform_scale(const Mat4& m, float& s) {
   if (std::fabs(l1 - l0) > tol || std::fabs(l2 - l0) > tol) return false;
   float t2 = 1e-4f * l0 * l0;
   return std::fabs(dot(c[0], c[1])) <= t2 && std::fabs(dot(c[0], c[2])) <= t2 && std::fabs(dot(c[1], c[2])) <= t2;
-}
-
-int Parser::reflectance_texture(const Token& d, const ParamList& pl, const std::string& name) {
-  const pbrt::Param* p = pl.find(name);
-  if (!p || p->type != "texture") return -1;
-  auto t = pl.get_texture(name);
-  auto it = spectrum_tex_.find(*t);
-  if (it == spectrum_tex_.end()) {
-    if (float_tex_.count(*t)) pl.find(name)->fail("texture '" + *t + "' is a float texture, a spectrum texture is needed");
-    pl.find(name)->fail("unknown texture '" + *t + "'");
-  }
-  return it->second;
-}
-
-int Parser::add_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl) {
-  Material m;
-  m.name = name;
-  auto roughness = [&] {
-    // pbrt-v4: uroughness/vroughness default to "roughness" (default 0); remaproughness (default
-    // true) maps through TrowbridgeReitzDistribution::RoughnessToAlpha(r) = sqrt(r).
-    float r = pl.get_float("roughness", 0);
-    float u = pl.get_float("uroughness", r), v = pl.get_float("vroughness", r);
-    if (u < 0 || v < 0) d.fail(type + ": negative roughness");
-    bool remap = pl.get_bool("remaproughness", true);
-    m.alpha_x = remap ? std::sqrt(u) : u;
-    m.alpha_y = remap ? std::sqrt(v) : v;
-  };
-  if (type == "diffuse") {
-    m.type = Material::Type::diffuse;
-    m.reflectance_texture = reflectance_texture(d, pl, "reflectance");
-    if (m.reflectance_texture < 0) m.reflectance = pl.get_rgb("reflectance", false).value_or(Rgb(0.5f));
-  } else if (type == "conductor") {
-    m.type = Material::Type::conductor;
-    const pbrt::Param* refl = pl.find("reflectance");
-    if (refl) {
-      if (pl.find("eta") || pl.find("k")) d.fail("conductor: give either \"reflectance\" or \"eta\"/\"k\", not both");
-      m.use_reflectance = true;
-      m.reflectance_texture = reflectance_texture(d, pl, "reflectance");
-      if (m.reflectance_texture < 0) m.reflectance = *pl.get_rgb("reflectance", false);
-    } else {
-      m.eta = pl.get_rgb("eta", false).value_or(m.eta);  // default: pbrt-v4's metal-Cu-eta / metal-Cu-k
-      m.k = pl.get_rgb("k", false).value_or(m.k);
-    }
-    roughness();
-  } else if (type == "dielectric") {
-    m.type = Material::Type::dielectric;
-    if (const pbrt::Param* p = pl.find("eta")) {
-      if (p->type == "float") {
-        m.ior = pl.get_float("eta", 1.5f);
-      } else if (p->type == "spectrum" && p->strs.size() == 1) {
-        auto ior = pbrt::named_glass_ior(p->strs[0]);
-        if (!ior) p->fail("unsupported named spectrum '" + p->strs[0] + "' (supported: glass-BK7, glass-BAF10, "
-                          "glass-FK51A, glass-LASF9, glass-F5, glass-F10, glass-F11)");
-        m.ior = *ior;
-      } else if (p->type == "spectrum" && p->nums.size() == 1) {
-        m.ior = float(p->nums[0]);
-      } else {
-        p->fail("dielectric eta must be a float, a single-value spectrum or a named glass");
-      }
-    }
-    if (!(m.ior > 0)) d.fail("dielectric: eta must be positive");
-    roughness();
-  } else if (type == "interface") {
-    d.fail("unsupported material 'interface' (participating media are not supported)");
-  } else {
-    d.fail("unsupported material '" + type + "' (supported: diffuse, conductor, dielectric)");
-  }
-  pl.ignore("type");
-  pl.check_unused("material \"" + type + "\"");
-  scene_.materials.push_back(m);
-  return int(scene_.materials.size()) - 1;
-}
-
-Rgb Parser::tex_value(const ParamList& pl, const std::string& name, Rgb def) {
-  const pbrt::Param* p = pl.find(name);
-  if (!p) return def;
-  if (p->type == "float") return Rgb(pl.get_float(name, 0));
-  if (p->type == "texture") {
-    std::string t = *pl.get_texture(name);
-    auto it = spectrum_tex_.find(t);
-    if (it == spectrum_tex_.end()) it = float_tex_.find(t);
-    if (it == float_tex_.end()) p->fail("unknown texture '" + t + "'");
-    const Texture& tx = scene_.textures[size_t(it->second)];
-    if (tx.kind != Texture::Kind::constant) p->fail("only constant textures can be nested here");
-    return tx.value;
-  }
-  return *pl.get_rgb(name, false);
-}
-
-void Parser::texture(const Token& d, const std::string& name, const std::string& type, const std::string& cls,
-                     const ParamList& pl) {
-  if (type != "spectrum" && type != "float") d.fail("Texture: type must be \"spectrum\" or \"float\", got '" + type + "'");
-  auto& names = type == "spectrum" ? spectrum_tex_ : float_tex_;
-  if (names.count(name)) d.fail("texture '" + name + "' redefined");
-  Texture t;
-  t.name = name;
-  t.uscale = pl.get_float("uscale", 1);
-  t.vscale = pl.get_float("vscale", 1);
-  t.udelta = pl.get_float("udelta", 0);
-  t.vdelta = pl.get_float("vdelta", 0);
-  std::string mapping = pl.get_string("mapping", "uv");
-  if (mapping != "uv") d.fail("Texture: unsupported mapping '" + mapping + "' (only \"uv\")");
-  if (cls == "imagemap") {
-    std::string f = pl.get_string("filename", "");
-    if (f.empty()) d.fail("imagemap: missing \"string filename\"");
-    t.kind = Texture::Kind::image;
-    t.image = detail::read_image_for(resolve(f, d, false), *d.file, d.line);
-    float sc = pl.get_float("scale", 1);
-    bool inv = pl.get_bool("invert", false);
-    for (Rgb& c : t.image.pixels) c = inv ? Rgb(1) - c * sc : c * sc;
-    std::string enc = pl.get_string("encoding", "sRGB");
-    if (enc != "sRGB") warn(d, "imagemap: \"encoding\" '" + enc + "' ignored (8-bit images are decoded as sRGB)");
-    std::string wrap = pl.get_string("wrap", "repeat");
-    if (wrap != "repeat") warn(d, "imagemap: \"wrap\" '" + wrap + "' ignored (always repeat)");
-    pl.ignore("filter");
-    pl.ignore("maxanisotropy");
-  } else if (cls == "checkerboard") {
-    if (pl.get_int("dimension", 2) != 2) d.fail("checkerboard: only dimension 2 is supported");
-    t.kind = Texture::Kind::checkerboard;
-    t.tex1 = tex_value(pl, "tex1", Rgb(1));
-    t.tex2 = tex_value(pl, "tex2", Rgb(0));
-  } else if (cls == "constant") {
-    t.kind = Texture::Kind::constant;
-    t.value = tex_value(pl, "value", Rgb(1));
-  } else if (cls == "scale") {
-    // scale = tex * scale; "tex" may name any texture (copied and multiplied), "scale" a constant.
-    float s = 1;
-    if (const pbrt::Param* sp = pl.find("scale")) {
-      if (sp->type != "float") sp->fail("only a constant float scale is supported");
-      s = pl.get_float("scale", 1);
-    }
-    const pbrt::Param* tp = pl.find("tex");
-    if (tp && tp->type == "texture") {
-      std::string tn = *pl.get_texture("tex");
-      auto it = spectrum_tex_.find(tn);
-      if (it == spectrum_tex_.end()) it = float_tex_.find(tn);
-      if (it == float_tex_.end()) tp->fail("unknown texture '" + tn + "'");
-      std::string keep = name;
-      t = scene_.textures[size_t(it->second)];
-      t.name = keep;
-    } else {
-      t.kind = Texture::Kind::constant;
-      t.value = tex_value(pl, "tex", Rgb(1));
-    }
-    t.value *= s;
-    t.tex1 *= s;
-    t.tex2 *= s;
-    for (Rgb& c : t.image.pixels) c *= s;
-  } else {
-    d.fail("unsupported texture '" + cls + "' (supported: imagemap, checkerboard, constant, scale)");
-  }
-  pl.check_unused("Texture \"" + cls + "\"");
-  scene_.textures.push_back(std::move(t));
-  names[name] = int(scene_.textures.size()) - 1;
 }
 
 void Parser::light(const Token& d, const std::string& type, const ParamList& pl) {

@@ -1,10 +1,15 @@
 #include "scene/pbrt_tokenizer.h"
 
 #include <charconv>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 namespace rl::pbrt {
+
+void warn(const Token& t, const std::string& msg) {
+  std::fprintf(stderr, "%s:%d: warning: %s\n", t.file ? t.file->c_str() : "?", t.line, msg.c_str());
+}
 
 void Tokenizer::push_file(const std::string& path, const std::string& from_file, int from_line) {
   if (stack_.size() > 64) throw SceneError(from_file, from_line, "Include nesting too deep (recursive Include?)");

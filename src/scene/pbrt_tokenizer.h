@@ -1,5 +1,7 @@
 // pbrt-v4 scene-file tokens and parameter lists (internal to the scene loader).
 #pragma once
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,5 +94,22 @@ Rgb blackbody_rgb(float kelvin);
 std::optional<Rgb> named_spectrum_rgb(const std::string& name);
 // Index of refraction at the d line for pbrt-v4's named glasses ("glass-BK7", ...).
 std::optional<float> named_glass_ior(const std::string& name);
+
+// Prints "FILE:LINE: warning: msg" to stderr.
+void warn(const Token& at, const std::string& msg);
+
+// Texture names -> indices into Scene::textures (pbrt keeps spectrum and float textures apart).
+struct NamedTextures {
+  std::map<std::string, int> spectrum, floats;
+};
+
+// pbrt-v4 "diffuse", "conductor", "dielectric" (pbrt_materials.cpp). Errors name d's file:line.
+Material make_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl,
+                       const NamedTextures& nt, const std::vector<Texture>& textures);
+// Texture classes imagemap, checkerboard, constant, scale. `resolve` maps a file name in the
+// scene to a path.
+Texture make_texture(const Token& d, const std::string& name, const std::string& cls, const ParamList& pl,
+                     const NamedTextures& nt, const std::vector<Texture>& textures,
+                     const std::function<std::string(const std::string&)>& resolve);
 
 }  // namespace rl::pbrt
