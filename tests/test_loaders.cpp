@@ -583,3 +583,29 @@ TEST_CASE("pbrt: image textures and environment maps through the image module") 
   CHECK(w.find("bad.pbrt:3: cannot read image") != std::string::npos);
 }
 }  // TEST_SUITE
+
+TEST_SUITE("loaders") {
+TEST_CASE("pbrt and ply: every truncation of a valid file loads or throws SceneError, never anything else") {
+  fs::path d = temp_dir();
+  std::ifstream in(RESTIR_SHARED_DIR "/scenes/cornell-box/scene-v4.pbrt");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  REQUIRE(text.size() > 1000);
+  int errors = 0, loaded = 0;
+  for (size_t n = 0; n < text.size(); n += 97) {
+    std::string path = write_file(d / "cut.pbrt", text.substr(0, n));
+    try {
+      load_scene(path);
+      ++loaded;
+    } catch (const SceneError& e) {
+      ++errors;
+      CHECK(std::string(e.what()).find("cut.pbrt") != std::string::npos);
+    }
+  }
+  CHECK(errors > 0);
+  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                    "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  CHECK_THROWS_AS(read_ply(write_file(d / "huge.ply", ply)), SceneError);
+  CHECK_THROWS_AS(read_ply(write_file(d / "empty.ply", "")), SceneError);
+  CHECK_THROWS_AS(read_ply((d / "absent.ply").string()), SceneError);
+}
+}  // TEST_SUITE

@@ -178,6 +178,17 @@ PlyMesh read_ply(const std::string& path) {
   }
   if (!have_format) throw SceneError(path, lineno, "PLY header has no format line");
 
+  // Every element takes at least one byte: reject absurd counts before allocating for them.
+  {
+    std::streampos here = in.tellg();
+    in.seekg(0, std::ios::end);
+    std::streamoff remaining = in.tellg() - here;
+    in.seekg(here);
+    for (const Element& e : elements)
+      if (e.count > 0 && std::streamoff(e.count) > remaining)
+        throw SceneError(path, 0, "element '" + e.name + "' declares " + std::to_string(e.count) +
+                                      " entries, more than the file can hold");
+  }
   PlyMesh mesh;
   bool have_vertices = false, have_faces = false;
   Reader rd(path, in, fmt, lineno);
