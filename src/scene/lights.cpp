@@ -335,6 +335,10 @@ bool Lights::sample_environment(Vec2 u, LightSample& out) const {
   float len = length(w);
   if (!finite_positive(len)) return false;
   w = w / len;
+  // Report the pdf of the texel the final direction looks up (the same path as
+  // environment_pdf / environment_radiance), so that sample() and pdf() agree exactly even when
+  // rounding moves a direction sampled at a texel edge into the neighbouring texel.
+  if (env_mapping_ != EnvironmentLight::Mapping::constant) pdf = environment_pdf_unselected(w);
   out.wi = w;
   out.pdf = pdf;
   out.distance = kInfinity;
