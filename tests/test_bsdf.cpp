@@ -171,7 +171,7 @@ TEST_CASE("bsdf: reciprocity of eval; generalized reciprocity of transmission") 
         CHECK(fac.x == doctest::Approx(fca.x).epsilon(1e-3));
         CHECK(fac.z == doctest::Approx(fca.z).epsilon(1e-3));
       } else if (b.type == Material::Type::dielectric) {
-        // Radiance BTDF: f(wo, wi) eta_wi^2 = f(wi, wo) eta_wo^2 (Veach 1997, eq. 5.14).
+        // Radiance BTDF: f(wo, wi) eta_wi^2 = f(wi, wo) eta_wo^2 (Veach 1997, sec. 5.2: generalized reciprocity f/eta_o^2 symmetric).
         float eta_a = a.z > 0 ? 1 : b.ior, eta_c = c.z > 0 ? 1 : b.ior;
         CHECK(fac.x * eta_c * eta_c == doctest::Approx(fca.x * eta_a * eta_a).epsilon(1e-3));
       } else {

@@ -226,7 +226,8 @@ bool Lights::sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const {
 }
 
 // Uniform area sampling (Heitz 2019 barycentrics), converted to solid angle with the Jacobian
-// dA -> dw: pdf_w = pdf_A d^2 / |cos theta_light| (PBR4 eq. 4.13 / Veach 1997 eq. 8.10).
+// dA -> dw: dw = |cos theta_light| dA / d^2, so pdf_w = pdf_A d^2 / |cos theta_light|
+// (PBR4 sec. 4.2.3; Veach 1997 sec. 8.2).
 bool Lights::sample_triangle(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) const {
   if (!(e.area > 0)) return false;
   Vec3 b = sample_uniform_triangle(u);
@@ -248,10 +249,10 @@ bool Lights::sample_triangle(const Emitter& e, Vec3 p, Vec2 u, LightSample& out)
 }
 
 // pbrt-v4 Sphere::Sample(ctx, u): outside the sphere, sample the cone of directions subtending it
-// uniformly (pdf 1 / (2 pi (1 - cos theta_max)), PBR4 eq. 6.xx "spherical cap"), and compute the
-// point on the sphere from the angle alpha at the centre (more robust than a ray intersection);
-// for sin^2 theta_max < sin^2(1.5 deg) use the Taylor expansion 1 - cos = sin^2 / 2. Inside the
-// sphere: uniform area sampling converted to solid angle (as for triangles).
+// uniformly (pdf 1 / (2 pi (1 - cos theta_max)), the solid angle of a spherical cap; PBR4
+// sec. 6.2.4), and compute the point on the sphere from the angle alpha at the centre (more
+// robust than a ray intersection); for sin^2 theta_max < sin^2(1.5 deg) use the Taylor expansion
+// 1 - cos = sin^2 / 2. Inside the sphere: uniform area sampling converted to solid angle.
 bool Lights::sample_sphere(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) const {
   const Vec3 c = e.p0;
   const float r = e.radius;
