@@ -61,6 +61,7 @@ int run_render(const RenderArgs& a) {
   }
   for (const auto& s : a.sets) set_option_assignment(o, s);
   validate_options(o);
+  find_integrator(o.integrator);  // fail before any output if the name is unknown
   if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
     throw OptionError("no output: give -o OUT.exr and/or --png OUT.png");
   if (!a.frame_dir.empty()) fs::create_directories(a.frame_dir);

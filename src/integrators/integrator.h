@@ -49,7 +49,8 @@ struct IntegratorInfo {
 };
 
 const std::vector<IntegratorInfo>& integrator_registry();
-// Throws OptionError for an unknown name, listing the known ones.
+// Both throw OptionError for an unknown name, listing the known ones.
+const IntegratorInfo& find_integrator(const std::string& name);
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
 
 }  // namespace rl

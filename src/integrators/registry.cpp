@@ -11,14 +11,18 @@ const std::vector<IntegratorInfo>& integrator_registry() {
   return registry;
 }
 
-std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx) {
+const IntegratorInfo& find_integrator(const std::string& name) {
   std::string known;
   for (const auto& info : integrator_registry()) {
-    if (name == info.name) return info.make(ctx);
+    if (name == info.name) return info;
     known += known.empty() ? "" : ", ";
     known += info.name;
   }
   throw OptionError("unknown integrator '" + name + "' (known: " + known + ")");
+}
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx) {
+  return find_integrator(name).make(ctx);
 }
 
 }  // namespace rl
