@@ -138,10 +138,13 @@ SurfaceInteraction Accel::interaction(const Ray& ray, const Hit& hit) const {
     si.p = s.center + n * s.radius;  // re-project onto the surface to cut the hit's float error
     si.ng = s.flip_normal ? -n : n;
     si.ns = si.ng;
-    // pbrt's sphere (u, v): phi / 2pi and theta from the z axis.
-    float phi = std::atan2(n.y, n.x);
-    if (phi < 0) phi += 2 * kPi;
-    si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
+    // pbrt's sphere (u, v): phi / 2pi and theta from the z axis; only textured spheres need it
+    // (the trigonometry is a measurable share of a frame on sphere-lit scenes).
+    if (scene_.materials[size_t(s.material)].reflectance_texture >= 0) {
+      float phi = std::atan2(n.y, n.x);
+      if (phi < 0) phi += 2 * kPi;
+      si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
+    }
     si.material = s.material;
     si.is_sphere = true;
     return si;

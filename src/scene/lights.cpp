@@ -21,11 +21,6 @@ Vec2 equirect_uv(Vec3 w) {
   return {std::min(phi * kInv2Pi, kOneMinusEpsilon), std::min(theta * kInvPi, kOneMinusEpsilon)};
 }
 
-Rgb lookup_nearest(const Image& img, Vec2 uv) {
-  int x = clamp(int(uv.x * float(img.width)), 0, img.width - 1);
-  int y = clamp(int(uv.y * float(img.height)), 0, img.height - 1);
-  return img.at(x, y);
-}
 
 }  // namespace
 
@@ -142,7 +137,7 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
           wsum += jac;
         }
       }
-      env_distribution_ = Distribution2D(f, w, h);
+      env_texels_ = AliasTable(f);
       avg = wsum > 0 ? float(sum / wsum) : 0.0f;
     }
     Emitter e;
@@ -307,29 +302,22 @@ bool Lights::sample_sphere(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) c
 
 bool Lights::sample_environment(Vec2 u, LightSample& out) const {
   Vec3 wl;
-  float pdf;
-  switch (env_mapping_) {
-    case EnvironmentLight::Mapping::constant:
-      wl = sample_uniform_sphere(u);
-      pdf = kInv4Pi;
-      break;
-    case EnvironmentLight::Mapping::equirect: {
-      float pdf_uv;
-      Vec2 uv = env_distribution_.sample_continuous(u, &pdf_uv);
+  if (env_mapping_ == EnvironmentLight::Mapping::constant) {
+    wl = sample_uniform_sphere(u);
+  } else {
+    // Texel by the alias table, then uniform in the texel's (u, v) cell: pdf_uv = pmf * W * H.
+    float pmf, ux;
+    const uint32_t t = env_texels_.sample(u.x, &pmf, &ux);
+    if (!(pmf > 0)) return false;
+    const int w = env_image_.width, h = env_image_.height;
+    const Vec2 uv{(float(t % uint32_t(w)) + ux) / float(w), (float(t / uint32_t(w)) + u.y) / float(h)};
+    if (env_mapping_ == EnvironmentLight::Mapping::equirect) {
       float theta = uv.y * kPi, phi = uv.x * 2 * kPi;
       float st = std::sin(theta);
-      if (!(st > 0) || !(pdf_uv > 0)) return false;
+      if (!(st > 0)) return false;
       wl = {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
-      pdf = pdf_uv / (2 * kPi * kPi * st);  // Jacobian of (u, v) -> direction: 2 pi^2 sin theta
-      break;
-    }
-    case EnvironmentLight::Mapping::equal_area: {
-      float pdf_uv;
-      Vec2 uv = env_distribution_.sample_continuous(u, &pdf_uv);
-      if (!(pdf_uv > 0)) return false;
+    } else {
       wl = equal_area_square_to_sphere(uv);
-      pdf = pdf_uv * kInv4Pi;  // equal-area map: constant Jacobian 4 pi
-      break;
     }
   }
   Vec3 w = env_world_from_light_.apply_vector(wl);
@@ -339,42 +327,46 @@ bool Lights::sample_environment(Vec2 u, LightSample& out) const {
   // Report the pdf of the texel the final direction looks up (the same path as
   // environment_pdf / environment_radiance), so that sample() and pdf() agree exactly even when
   // rounding moves a direction sampled at a texel edge into the neighbouring texel.
-  if (env_mapping_ != EnvironmentLight::Mapping::constant) pdf = environment_pdf_unselected(w);
+  const EnvLookup look = environment_lookup(w);
   out.wi = w;
-  out.pdf = pdf;
+  out.pdf = look.pdf;
   out.distance = kInfinity;
-  out.radiance = environment_radiance(w);
+  out.radiance = look.radiance;
   out.position = w;
   out.normal = Vec3(0);
-  return finite_positive(pdf);
+  return finite_positive(look.pdf);
 }
 
-Rgb Lights::environment_radiance(Vec3 dir) const {
-  if (env_emitter_ == kNoEmitter) return Rgb(0);
-  if (env_mapping_ == EnvironmentLight::Mapping::constant) return env_scale_;
+Lights::EnvLookup Lights::environment_lookup(Vec3 dir) const {
+  EnvLookup r;
+  if (env_emitter_ == kNoEmitter) return r;
+  if (env_mapping_ == EnvironmentLight::Mapping::constant) return {env_scale_, kInv4Pi};
   Vec3 wl = env_light_from_world_.apply_vector(dir);
   float len = length(wl);
-  if (!finite_positive(len)) return Rgb(0);
+  if (!finite_positive(len)) return r;
   wl = wl / len;
-  Vec2 uv = env_mapping_ == EnvironmentLight::Mapping::equirect ? equirect_uv(wl) : equal_area_sphere_to_square(wl);
-  Rgb v = lookup_nearest(env_image_, uv) * env_scale_;
-  return is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
-}
-
-float Lights::environment_pdf_unselected(Vec3 dir) const {
-  if (env_mapping_ == EnvironmentLight::Mapping::constant) return kInv4Pi;
-  Vec3 wl = env_light_from_world_.apply_vector(dir);
-  float len = length(wl);
-  if (!finite_positive(len)) return 0;
-  wl = wl / len;
-  if (env_mapping_ == EnvironmentLight::Mapping::equirect) {
+  const bool equirect = env_mapping_ == EnvironmentLight::Mapping::equirect;
+  const Vec2 uv = equirect ? equirect_uv(wl) : equal_area_sphere_to_square(wl);
+  const int w = env_image_.width, h = env_image_.height;
+  const int x = clamp(int(uv.x * float(w)), 0, w - 1), y = clamp(int(uv.y * float(h)), 0, h - 1);
+  const size_t texel = size_t(y) * size_t(w) + size_t(x);
+  const Rgb v = env_image_.pixels[texel] * env_scale_;
+  r.radiance = is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
+  const float pdf_uv = env_texels_.pmf(uint32_t(texel)) * float(w) * float(h);
+  if (equirect) {
+    // Jacobian of (u, v) -> direction: 2 pi^2 sin(theta).
     float st = std::sqrt(wl.x * wl.x + wl.y * wl.y);
-    if (!(st > 0)) return 0;
-    float pdf = env_distribution_.pdf(equirect_uv(wl)) / (2 * kPi * kPi * st);
-    return std::isfinite(pdf) ? pdf : 0.0f;
+    r.pdf = st > 0 ? pdf_uv / (2 * kPi * kPi * st) : 0.0f;
+  } else {
+    r.pdf = pdf_uv * kInv4Pi;  // equal-area map: constant Jacobian 4 pi
   }
-  return env_distribution_.pdf(equal_area_sphere_to_square(wl)) * kInv4Pi;
+  if (!std::isfinite(r.pdf)) r.pdf = 0;
+  return r;
 }
+
+Rgb Lights::environment_radiance(Vec3 dir) const { return environment_lookup(dir).radiance; }
+
+float Lights::environment_pdf_unselected(Vec3 dir) const { return environment_lookup(dir).pdf; }
 
 float Lights::environment_pdf(Vec3 dir) const {
   if (env_emitter_ == kNoEmitter) return 0;

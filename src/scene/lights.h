@@ -94,6 +94,12 @@ class Lights {
   bool sample_sphere(const Emitter& e, Vec3 p, Vec2 u, LightSample& out) const;
   bool sample_environment(Vec2 u, LightSample& out) const;
   float environment_pdf_unselected(Vec3 dir) const;
+  // Radiance and unselected solid-angle pdf of the texel a world direction looks up, in one go.
+  struct EnvLookup {
+    Rgb radiance{0};
+    float pdf = 0;
+  };
+  EnvLookup environment_lookup(Vec3 dir) const;
   Rgb emitted_by(const Emitter& e, Vec3 n, Vec3 w) const;
 
   std::vector<Emitter> emitters_;
@@ -107,7 +113,9 @@ class Lights {
   Rgb env_scale_{0};
   Image env_image_;
   Mat4 env_world_from_light_, env_light_from_world_;
-  Distribution2D env_distribution_;
+  // Texel selection ∝ luminance x (equirect) sin(theta): an alias table gives O(1) sampling, where
+  // a 2-D CDF's binary searches cost more than the ray queries on env-lit scenes.
+  AliasTable env_texels_;
 };
 
 }  // namespace rl

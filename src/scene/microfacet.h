@@ -10,7 +10,6 @@
 // Visible Normals", JCGT 7(4), listing 1), pdf D_w(wm) = G1(w) max(0, w.wm) D(wm) / w.z
 // (Heitz 2018 eq. 2 / Heitz & d'Eon 2014 eq. 2).
 #pragma once
-#include <complex>
 
 #include "core/math.h"
 #include "core/sampling.h"
@@ -92,18 +91,24 @@ RESTIR_HD inline float fresnel_dielectric(float cos_i, float eta) {
   return 0.5f * (r_parl * r_parl + r_perp * r_perp);
 }
 
-// Fresnel reflectance of a conductor with complex IOR eta + i k (pbrt-v4 FrComplex, PBR4 eq. 9.6
-// with complex eta; Born & Wolf). One wavelength (RGB channel) at a time.
+// Fresnel reflectance of a conductor with complex IOR eta + i k seen from vacuum. The same value
+// as pbrt-v4's FrComplex (PBR4 eq. 9.6 with complex eta), written in real arithmetic as pbrt-v3's
+// FrConductor (PBR3 sec. 8.2.1; Born & Wolf): std::complex division and sqrt cost more than the
+// ray queries on conductor-heavy scenes. One wavelength (RGB channel) at a time.
 inline float fresnel_complex(float cos_i, float eta, float k) {
-  using C = std::complex<float>;
   cos_i = clamp(cos_i, 0.0f, 1.0f);
-  C e(eta, k);
-  float sin2_i = 1 - cos_i * cos_i;
-  C sin2_t = sin2_i / (e * e);
-  C cos_t = std::sqrt(C(1) - sin2_t);
-  C r_parl = (e * cos_i - cos_t) / (e * cos_i + cos_t);
-  C r_perp = (C(cos_i) - e * cos_t) / (C(cos_i) + e * cos_t);
-  float r = 0.5f * (std::norm(r_parl) + std::norm(r_perp));
+  const float cos2 = cos_i * cos_i, sin2 = 1 - cos2;
+  const float eta2 = eta * eta, k2 = k * k;
+  const float t0 = eta2 - k2 - sin2;
+  const float a2_plus_b2 = std::sqrt(std::max(t0 * t0 + 4 * eta2 * k2, 0.0f));
+  const float t1 = a2_plus_b2 + cos2;
+  const float a = safe_sqrt(0.5f * (a2_plus_b2 + t0));
+  const float t2 = 2 * cos_i * a;
+  const float rs = (t1 - t2) / (t1 + t2);
+  const float t3 = cos2 * a2_plus_b2 + sin2 * sin2;
+  const float t4 = t2 * sin2;
+  const float rp = rs * (t3 - t4) / (t3 + t4);
+  const float r = 0.5f * (rp + rs);
   return std::isfinite(r) ? clamp(r, 0.0f, 1.0f) : 1.0f;
 }
 inline Rgb fresnel_complex(float cos_i, Rgb eta, Rgb k) {
