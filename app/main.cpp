@@ -140,10 +140,13 @@ int run_info(const std::string& path) {
 int run_compare(const std::string& a, const std::string& b, bool json) {
   Image test = read_image(a), ref = read_image(b);
   double m = mse(test, ref), r = rel_mse(test, ref), e = mean_abs_error(test, ref);
+  double lt = image_stats(test).mean_luminance, lr = image_stats(ref).mean_luminance;
   if (json) {
-    fmt::print("{{\"mse\": {:.9g}, \"relmse\": {:.9g}, \"mae\": {:.9g}}}\n", m, r, e);
+    fmt::print("{{\"mse\": {:.9g}, \"relmse\": {:.9g}, \"mae\": {:.9g}, \"mean_luminance_test\": {:.9g}, "
+               "\"mean_luminance_reference\": {:.9g}}}\n", m, r, e, lt, lr);
   } else {
-    fmt::print("MSE     {:.6g}\nrelMSE  {:.6g}\nMAE     {:.6g}\n", m, r, e);
+    fmt::print("MSE     {:.6g}\nrelMSE  {:.6g}\nMAE     {:.6g}\nmean luminance  test {:.6g}  reference {:.6g}\n", m, r, e,
+               lt, lr);
   }
   return 0;
 }
