@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/option_io.h"
+#include "restir/mis.h"
 
 namespace rl {
 
@@ -39,6 +40,12 @@ template <> struct EnumNames<LightSelection> {
       {{LightSelection::power, "power"}, {LightSelection::uniform, "uniform"}}};
 };
 
+template <> struct EnumNames<restir::ReuseMis> {
+  static constexpr std::array<std::pair<restir::ReuseMis, const char*>, 4> values{
+      {{restir::ReuseMis::constant, "constant"}, {restir::ReuseMis::one_over_z, "one-over-z"},
+       {restir::ReuseMis::generalized_balance, "generalized-balance"}, {restir::ReuseMis::pairwise, "pairwise"}}};
+};
+
 struct FilmOptions {
   int width = 640;
   int height = 360;
@@ -65,6 +72,25 @@ struct PathOptions {
   int rr_min_depth = 3;
 };
 
+// ReSTIR DI (Bitterli et al. 2020). Reservoirs hold points on emitters (area measure), directions
+// of the environment (solid angle) or point lights, so reuse across pixels is the identity shift.
+struct DiOptions {
+  int light_candidates = 32;
+  int bsdf_candidates = 1;
+  bool visibility_reuse = true;
+  bool neighbor_visibility = true;
+  bool temporal = true;
+  int max_history = 20;
+  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
+  int spatial_neighbors = 5;
+  float spatial_radius = 30;
+  int spatial_rounds = 1;
+  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  bool similarity_rejection = true;
+  float depth_threshold = 0.1f;
+  float normal_threshold = 25;
+};
+
 struct OutputOptions {
   Tonemap tonemap = Tonemap::aces;
   float exposure = 0;
@@ -77,13 +103,14 @@ struct Options {
   FilmOptions film;
   RenderOptions render;
   PathOptions path;
+  DiOptions di;
   OutputOptions output;
 };
 
 // The one list. Help texts say what a value means; ranges reject absurd values up front.
 template <class O, class V>
 void visit_options(O& o, V& v) {
-  v("integrator", o.integrator, "integrator: pt (reference path tracer)");
+  v("integrator", o.integrator, "integrator: pt (reference path tracer), restir-di (`restir options` lists all)");
   v("film.width", o.film.width, "image width in pixels (default: the scene's Film, else this)", Range{1, 16384});
   v("film.height", o.film.height, "image height in pixels (default: the scene's Film, else this)", Range{1, 16384});
   v("film.filter", o.film.filter, "pixel reconstruction filter, sampled by filter importance sampling");
@@ -101,6 +128,20 @@ void visit_options(O& o, V& v) {
   v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling");
   v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette on throughput");
   v("path.rr_min_depth", o.path.rr_min_depth, "first bounce at which Russian roulette may terminate", Range{1, 1024});
+  v("di.light_candidates", o.di.light_candidates, "initial light-sample candidates per pixel (M)", Range{0, 4096});
+  v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
+  v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse");
+  v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
+  v("di.temporal", o.di.temporal, "reuse the previous frame's reservoirs (reprojected through the previous camera)");
+  v("di.max_history", o.di.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
+  v("di.temporal_mis", o.di.temporal_mis, "resampling MIS for temporal reuse");
+  v("di.spatial_neighbors", o.di.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
+  v("di.spatial_radius", o.di.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
+  v("di.spatial_rounds", o.di.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
+  v("di.spatial_mis", o.di.spatial_mis, "resampling MIS for spatial reuse");
+  v("di.similarity_rejection", o.di.similarity_rejection, "skip neighbours whose depth or normal differ (thresholds below)");
+  v("di.depth_threshold", o.di.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
+  v("di.normal_threshold", o.di.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});

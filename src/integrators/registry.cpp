@@ -3,10 +3,12 @@
 namespace rl {
 
 std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx);
+std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx);
 
 const std::vector<IntegratorInfo>& integrator_registry() {
   static const std::vector<IntegratorInfo> registry = {
       {"pt", "reference path tracer: NEE + MIS, Russian roulette (path.*)", &make_path_tracer},
+      {"restir-di", "ReSTIR DI, direct lighting with temporal and spatial reuse (di.*)", &make_restir_di},
   };
   return registry;
 }

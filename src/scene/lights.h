@@ -76,6 +76,10 @@ class Lights {
   Rgb emitted(uint32_t emitter, Vec3 n, Vec3 w) const;
   float selection_pmf(uint32_t emitter) const;
   float power(uint32_t emitter) const { return emitter < emitters_.size() ? emitters_[emitter].power : 0.0f; }
+  // Intensity I of a point light (0 for other emitters).
+  Rgb point_intensity(uint32_t emitter) const {
+    return emitter < emitters_.size() && emitters_[emitter].kind == Kind::point ? emitters_[emitter].radiance : Rgb(0);
+  }
   Kind kind(uint32_t emitter) const { return emitters_[emitter].kind; }
 
  private:

@@ -1,0 +1,169 @@
+#include "integrators/di_sampling.h"
+
+namespace rl {
+
+namespace {
+
+// Source pdfs of a light point in its sample measure, for the two candidate strategies.
+struct StrategyPdfs {
+  float light = 0, bsdf = 0;
+};
+
+// Converts a solid-angle pdf at p into the sample measure of y (area for area emitters).
+float to_sample_measure(const Lights& lights, const LightPoint& y, Vec3 p, float pdf_solid_angle) {
+  switch (lights.kind(y.emitter)) {
+    case Lights::Kind::triangle:
+    case Lights::Kind::sphere: {
+      Vec3 d = y.position - p;
+      float d2 = length_squared(d);
+      if (!(d2 > 0)) return 0;
+      float cos_l = std::fabs(dot(y.normal, d)) / std::sqrt(d2);
+      return pdf_solid_angle * cos_l / d2;
+    }
+    case Lights::Kind::environment:
+      return pdf_solid_angle;
+    case Lights::Kind::point:
+      return pdf_solid_angle;  // the selection pmf (counting measure)
+  }
+  return 0;
+}
+
+StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y) {
+  StrategyPdfs r;
+  const Lights::Kind kind = lights.kind(y.emitter);
+  Vec3 wi;
+  if (kind == Lights::Kind::environment) {
+    wi = y.position;
+    r.light = lights.environment_pdf(wi);
+  } else if (kind == Lights::Kind::point) {
+    r.light = lights.selection_pmf(y.emitter);
+    return r;  // BSDF sampling never hits a point light
+  } else {
+    wi = normalize(y.position - s.p);
+    r.light = to_sample_measure(lights, y, s.p, lights.pdf(y.emitter, s.p, y.position, y.normal));
+  }
+  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
+  r.bsdf = to_sample_measure(lights, y, s.p, bsdf_pdf(s.bsdf, wo_l, wi_l));
+  return r;
+}
+
+}  // namespace
+
+Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, float eps, Ray* shadow_ray) {
+  if (!s.valid || y.emitter == kNoEmitter) return Rgb(0);
+  Vec3 wi;
+  Rgb le;
+  float g;
+  switch (lights.kind(y.emitter)) {
+    case Lights::Kind::environment:
+      wi = y.position;
+      le = lights.environment_radiance(wi);
+      g = 1;
+      if (shadow_ray) *shadow_ray = spawn_ray(s.p, s.ng, wi, eps);
+      break;
+    case Lights::Kind::point: {
+      Vec3 d = y.position - s.p;
+      float d2 = length_squared(d);
+      if (!(d2 > 0)) return Rgb(0);
+      wi = d / std::sqrt(d2);
+      le = lights.point_intensity(y.emitter);
+      g = 1 / d2;
+      if (shadow_ray) *shadow_ray = spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
+      break;
+    }
+    default: {
+      Vec3 d = y.position - s.p;
+      float d2 = length_squared(d);
+      if (!(d2 > 0)) return Rgb(0);
+      wi = d / std::sqrt(d2);
+      le = lights.emitted(y.emitter, y.normal, -wi);
+      g = std::fabs(dot(y.normal, wi)) / d2;
+      if (shadow_ray) *shadow_ray = spawn_ray_to(s.p, s.ng, y.position, y.normal, eps);
+      break;
+    }
+  }
+  if (is_black(le)) return Rgb(0);
+  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
+  Rgb f = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
+  Rgb v = f * le * g;
+  return is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
+}
+
+float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility) {
+  Ray shadow;
+  float t = luminance(di_unshadowed(ctx.lights, s, y, ctx.accel.ray_epsilon(), visibility ? &shadow : nullptr));
+  if (!(t > 0)) return 0;
+  if (visibility && ctx.accel.occluded(shadow)) return 0;
+  return t;
+}
+
+DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
+                                 bool visibility, Pcg32& rng) {
+  DiReservoir r;
+  r.confidence = float(light_candidates + bsdf_candidates);
+  if (!s.valid || ctx.lights.empty() || bsdf_is_delta(s.bsdf)) return r;
+  const float eps = ctx.accel.ray_epsilon();
+  const float ml = float(light_candidates), mb = float(bsdf_candidates);
+  auto weight = [&](const LightPoint& y, float target) {
+    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y);
+    float den = ml * p.light + mb * p.bsdf;
+    return den > 0 ? target / den : 0.0f;
+  };
+  for (int i = 0; i < light_candidates; ++i) {
+    LightSample ls;
+    float u_select = rng.next_float();
+    Vec2 u = rng.next_2d();
+    float u_stream = rng.next_float();
+    if (!ctx.lights.sample(s.p, u_select, u, ls)) continue;
+    LightPoint y{ls.position, ls.normal, ls.emitter};
+    float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
+    restir::stream(r, y, t, weight(y, t), u_stream);
+  }
+  const Vec3 wo_l = s.frame.to_local(s.wo);
+  for (int i = 0; i < bsdf_candidates; ++i) {
+    BsdfSample bs;
+    float u_lobe = rng.next_float();
+    Vec2 u = rng.next_2d();
+    float u_stream = rng.next_float();
+    if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || bs.is_delta || !(bs.pdf > 0)) continue;
+    const Vec3 wi = s.frame.to_world(bs.wi);
+    Hit hit;
+    LightPoint y;
+    if (ctx.accel.intersect(spawn_ray(s.p, s.ng, wi, eps), hit)) {
+      SurfaceInteraction si = ctx.accel.interaction(Ray{s.p, wi}, hit);
+      y.emitter = si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
+      y.position = si.p;
+      y.normal = si.ng;
+    } else if (ctx.lights.has_environment()) {
+      y.emitter = ctx.lights.environment_emitter();
+      y.position = wi;
+    }
+    if (y.emitter == kNoEmitter) continue;
+    float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
+    restir::stream(r, y, t, weight(y, t), u_stream);
+  }
+  restir::finalize(r);
+  if (visibility && r.has_sample() && !(di_target(ctx, s, r.sample, true) > 0)) {
+    r.ucw = 0;
+    r.target = 0;
+  }
+  return r;
+}
+
+Rgb di_specular(const RenderContext& ctx, const GSurface& s, Pcg32& rng) {
+  BsdfSample bs;
+  const Vec3 wo_l = s.frame.to_local(s.wo);
+  float u_lobe = rng.next_float();
+  Vec2 u = rng.next_2d();
+  if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0)) return Rgb(0);
+  const Rgb beta = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+  const Vec3 wi = s.frame.to_world(bs.wi);
+  Hit hit;
+  if (!ctx.accel.intersect(spawn_ray(s.p, s.ng, wi, ctx.accel.ray_epsilon()), hit))
+    return beta * ctx.lights.environment_radiance(wi);
+  SurfaceInteraction si = ctx.accel.interaction(Ray{s.p, wi}, hit);
+  uint32_t e = si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
+  return e == kNoEmitter ? Rgb(0) : beta * ctx.lights.emitted(e, si.ng, -wi);
+}
+
+}  // namespace rl

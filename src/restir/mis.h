@@ -1,0 +1,119 @@
+// Reuse: combining a canonical reservoir with reservoirs of other domains (neighbouring pixels,
+// the previous frame) through a narrow bridge, with the resampling MIS weights of the literature.
+// One routine serves temporal and spatial reuse of ReSTIR DI, GI and PT; the integrators only
+// supply the bridge (target functions and shift mappings of their domain).
+//
+// Bridge (any type with these members; `i` indexes the inputs, 0 is the canonical domain):
+//   // x = T_{i→0}(y): a sample of source i shifted into the canonical domain; false if the shift
+//   // fails. jacobian = |∂T_{i→0}/∂y| (1 for the identity shift of ReSTIR DI on area measure).
+//   bool shift_to_canonical(int i, const Sample& y, Sample& x, float& jacobian) const;
+//   // p̂_{←i}(x): source i's target function at the canonical-domain sample x shifted back to
+//   // domain i, times that shift's jacobian |∂T_{0→i}/∂x| (0 when the shift fails). For i == 0: p̂_0(x).
+//   float target_from(int i, const Sample& x) const;
+#pragma once
+#include <span>
+
+#include "core/rng.h"
+#include "restir/reservoir.h"
+
+namespace rl::restir {
+
+// Resampling MIS weights m_i for reuse.
+enum class ReuseMis {
+  constant,             // m_i = M_i / ΣM. Biased whenever the domains' supports differ (shown in tests).
+  one_over_z,           // Bitterli et al. 2020, Alg. 6: resample with M_i·p̂_0·W_i, then W = Σw / (p̂_0(Y)·Z(Y)),
+                        // Z = Σ of M_j over the sources whose p̂_{←j}(Y) > 0. Unbiased, O(N).
+  generalized_balance,  // Talbot 2005 / GRIS eq. 22: m_i(x) = M_i p̂_{←i}(x) / Σ_j M_j p̂_{←j}(x). Unbiased, O(N²).
+  pairwise,             // Bitterli 2022 (thesis §9.1.3) / Wyman et al. 2023 course notes §7: defensive,
+                        // confidence-weighted pairwise MIS against the canonical sample. Unbiased, O(N).
+};
+
+// Everything a reuse pass reports besides the new reservoir (debug views, tests).
+struct CombineInfo {
+  int selected = -1;           // which input the output sample came from (-1: none)
+  int failed_shifts = 0;       // inputs whose sample could not be shifted to the canonical domain
+};
+
+namespace detail {
+// Pairwise MIS (confidence-weighted, defensive): with M_c the canonical confidence, R = ΣM − M_c,
+//   m_c(x) = M_c/ΣM + Σ_j (M_j/ΣM) · M_c p̂_0(x) / (M_c p̂_0(x) + R p̂_{←j}(x))
+//   m_j(x) = (M_j/ΣM) · R p̂_{←j}(x) / (R p̂_{←j}(x) + M_c p̂_0(x))
+// For every x with p̂_0(x) > 0 the weights of all sources sum to one (each pair's two fractions sum to 1).
+RESTIR_HD inline float pairwise_fraction(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
+}  // namespace detail
+
+// Combines inputs[0] (canonical) with inputs[1..] into a new reservoir in the canonical domain.
+// Inputs must be finalized (ucw set) and carry their (possibly capped) confidence. The output's
+// confidence is the sum of the inputs' confidences; its ucw is set.
+template <class Bridge, class Sample>
+Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, ReuseMis mis, Pcg32& rng,
+                          CombineInfo* info = nullptr) {
+  Reservoir<Sample> out;
+  const int n = int(inputs.size());
+  float m_sum = 0;
+  for (const auto* r : inputs) m_sum += r->confidence;
+  out.confidence = m_sum;
+  if (n == 0 || !(m_sum > 0)) return out;
+  const float m_c = inputs[0]->confidence, m_rest = m_sum - m_c;
+
+  for (int i = 0; i < n; ++i) {
+    const Reservoir<Sample>& in = *inputs[size_t(i)];
+    if (!in.has_sample()) {
+      (void)rng.next_float();  // keep the random stream aligned whatever the inputs hold
+      continue;
+    }
+    Sample x = in.sample;
+    float jacobian = 1;
+    if (i > 0 && !bridge.shift_to_canonical(i, in.sample, x, jacobian)) {
+      if (info) ++info->failed_shifts;
+      (void)rng.next_float();
+      continue;
+    }
+    const float p0 = bridge.target_from(0, x);
+    float m = 0;
+    switch (mis) {
+      case ReuseMis::constant:
+        m = in.confidence / m_sum;
+        break;
+      case ReuseMis::one_over_z:
+        m = in.confidence;  // 1/Z is applied at finalize
+        break;
+      case ReuseMis::generalized_balance: {
+        float num = 0, den = 0;
+        for (int j = 0; j < n; ++j) {
+          const float pj = j == 0 ? p0 : bridge.target_from(j, x);
+          const float t = inputs[size_t(j)]->confidence * pj;
+          den += t;
+          if (j == i) num = t;
+        }
+        m = den > 0 ? num / den : 0.0f;
+        break;
+      }
+      case ReuseMis::pairwise: {
+        if (i == 0) {
+          m = m_c / m_sum;
+          for (int j = 1; j < n; ++j)
+            m += inputs[size_t(j)]->confidence / m_sum *
+                 detail::pairwise_fraction(m_c * p0, m_rest * bridge.target_from(j, x));
+        } else {
+          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * bridge.target_from(i, x), m_c * p0);
+        }
+        break;
+      }
+    }
+    if (stream(out, x, p0, resampling_weight(m, p0, in.ucw, jacobian), rng.next_float()) && info) info->selected = i;
+  }
+
+  float normalization = 1;
+  if (mis == ReuseMis::one_over_z && out.target > 0) {
+    // Z(Y): confidence of the sources that could have produced Y (Bitterli et al. 2020, Alg. 6).
+    float z = 0;
+    for (int j = 0; j < n; ++j)
+      if ((j == 0 ? out.target : bridge.target_from(j, out.sample)) > 0) z += inputs[size_t(j)]->confidence;
+    normalization = z;
+  }
+  finalize(out, normalization);
+  return out;
+}
+
+}  // namespace rl::restir

@@ -1,0 +1,73 @@
+// The reservoir and streaming resampled importance sampling (RIS) — the core of every ReSTIR
+// variant. Plain structs and small functions, no scene types: usable from host code now and from
+// device code later (RESTIR_HD).
+//
+// Glossary (one field, one meaning; the names used everywhere in src/restir and the integrators):
+//   target      p̂(x)      target function of the stored sample, in the reservoir's own domain
+//   weight_sum  w_sum     running sum of resampling weights while streaming candidates
+//   ucw         W         unbiased contribution weight of the stored sample, set by finalize()
+//   confidence  M         confidence weight: how many candidates the reservoir stands for
+//   mis_weight  m_i       resampling MIS weight of candidate i (the m_i sum to 1 over the sources)
+//   jacobian    |∂T/∂x|   Jacobian determinant of a shift mapping T
+//
+// The GRIS estimator (Lin et al. 2022, "Generalized Resampled Importance Sampling", eq. 19-20;
+// Bitterli et al. 2020, eq. 6): candidates x_i with resampling weights
+//   w_i = m_i(x_i) · p̂(x_i) · W_i            (W_i = 1/p_i(x_i) for a fresh candidate of density p_i,
+//                                              or a reused reservoir's ucw times the shift's jacobian),
+// select Y with probability w_i / Σw, and W_Y = Σw / p̂(Y). Then E[f(Y) W_Y] = ∫ f wherever the m_i
+// sum to one over the sources that can produce each x and p̂ > 0 wherever f ≠ 0.
+#pragma once
+#include "core/math.h"
+
+namespace rl::restir {
+
+template <class Sample>
+struct Reservoir {
+  Sample sample{};
+  float target = 0;      // p̂(sample) in the reservoir's own domain
+  float weight_sum = 0;  // Σ w_i while streaming
+  float ucw = 0;         // W, valid after finalize()
+  float confidence = 0;  // M
+
+  // True when a sample was selected and carries weight.
+  RESTIR_HD bool has_sample() const { return ucw > 0 && target > 0; }
+};
+
+// Streams one candidate with resampling weight `weight` (weighted reservoir sampling, Chao 1982;
+// Bitterli et al. 2020, Alg. 2). `u` is uniform in [0,1). Returns true when it replaced the sample.
+template <class Sample>
+RESTIR_HD inline bool stream(Reservoir<Sample>& r, const Sample& x, float target, float weight, float u) {
+  if (!(weight > 0) || !std::isfinite(weight)) return false;
+  r.weight_sum += weight;
+  if (u * r.weight_sum < weight) {
+    r.sample = x;
+    r.target = target;
+    return true;
+  }
+  return false;
+}
+
+// Unbiased contribution weight W = Σw / (p̂(Y) · normalization) (GRIS eq. 20). The normalization is
+// 1 when the MIS weights are inside the resampling weights; Bitterli et al. 2020's 1/Z variant
+// (Alg. 6) passes Z there (see mis.h).
+template <class Sample>
+RESTIR_HD inline void finalize(Reservoir<Sample>& r, float normalization = 1.0f) {
+  const float denom = r.target * normalization;
+  r.ucw = (r.target > 0 && denom > 0 && r.weight_sum > 0) ? r.weight_sum / denom : 0.0f;
+  if (!std::isfinite(r.ucw)) r.ucw = 0;
+}
+
+// Resampling weight of one candidate (GRIS eq. 19): m_i · p̂(x) · W_i · |∂T/∂x|.
+RESTIR_HD inline float resampling_weight(float mis_weight, float target, float ucw, float jacobian = 1.0f) {
+  float w = mis_weight * target * ucw * jacobian;
+  return std::isfinite(w) && w > 0 ? w : 0.0f;
+}
+
+// M-capping (Bitterli et al. 2020 §6; thesis §4.2.4): a reused history reservoir keeps at most
+// `cap` × the canonical reservoir's confidence, so the newest samples keep a relative weight of at
+// least about 1/(cap + 1). cap <= 0 disables the cap.
+RESTIR_HD inline float capped_confidence(float history, float canonical, float cap) {
+  return cap > 0 ? std::min(history, cap * canonical) : history;
+}
+
+}  // namespace rl::restir
