@@ -17,6 +17,8 @@ enum class PixelFilter { box, triangle, gaussian };
 enum class Tonemap { linear, reinhard, modified_reinhard, aces };
 enum class MisHeuristic { balance, power };
 enum class LightSelection { power, uniform };
+// Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
+enum class DebugView { none, confidence, reuse_source, rejected_shifts };
 
 template <> struct EnumNames<SamplePattern> {
   static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
@@ -34,6 +36,11 @@ template <> struct EnumNames<Tonemap> {
 template <> struct EnumNames<MisHeuristic> {
   static constexpr std::array<std::pair<MisHeuristic, const char*>, 2> values{
       {{MisHeuristic::balance, "balance"}, {MisHeuristic::power, "power"}}};
+};
+template <> struct EnumNames<DebugView> {
+  static constexpr std::array<std::pair<DebugView, const char*>, 4> values{
+      {{DebugView::none, "none"}, {DebugView::confidence, "confidence"}, {DebugView::reuse_source, "reuse-source"},
+       {DebugView::rejected_shifts, "rejected-shifts"}}};
 };
 template <> struct EnumNames<LightSelection> {
   static constexpr std::array<std::pair<LightSelection, const char*>, 2> values{
@@ -61,6 +68,7 @@ struct RenderOptions {
   SamplePattern sample_pattern = SamplePattern::halton;
   LightSelection light_selection = LightSelection::power;
   std::string camera_path;
+  DebugView debug_view = DebugView::none;
 };
 
 struct PathOptions {
@@ -122,6 +130,9 @@ void visit_options(O& o, V& v) {
   v("render.sample_pattern", o.render.sample_pattern, "primary-ray positions inside a pixel");
   v("render.light_selection", o.render.light_selection, "how a light is picked: by emitted power (alias table) or uniformly");
   v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");
+  v("render.debug_view", o.render.debug_view,
+    "ReSTIR integrators: output a diagnostic instead of radiance: reservoir confidence M, reuse source of the final "
+    "sample (0 = own, 1 = temporal, 2 = spatial), or the fraction of reuse candidates whose shift failed");
   v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting)", Range{0, 1024});
   v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex");
   v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7)");

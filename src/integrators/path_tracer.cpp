@@ -192,6 +192,10 @@ class PathTracer final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) { return std::make_unique<PathTracer>(ctx); }
+std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) {
+  if (ctx.options.render.debug_view != DebugView::none)
+    throw OptionError("render.debug_view: the path tracer has no debug views (they belong to the ReSTIR integrators)");
+  return std::make_unique<PathTracer>(ctx);
+}
 
 }  // namespace rl

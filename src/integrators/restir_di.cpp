@@ -52,6 +52,10 @@ class RestirDi final : public Integrator {
     GBuffer gbuffer, previous_gbuffer;
     std::vector<DiReservoir> reservoirs, previous;  // current frame / last frame's final reservoirs
     bool has_history = false;
+    // Debug views: where each pixel's sample came from (0 own, 1 temporal, 2 spatial) and how
+    // many reuse candidates were tried / rejected (reprojection or similarity tests).
+    std::vector<uint8_t> source;
+    std::vector<uint16_t> tried, rejected;
   };
 
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
@@ -63,6 +67,9 @@ class RestirDi final : public Integrator {
     build_gbuffer(ctx_, *frame.camera, frame.index, s, c.gbuffer);
     const GBuffer& g = c.gbuffer;
     c.reservoirs.assign(size_t(w) * size_t(h), DiReservoir{});
+    c.source.assign(c.reservoirs.size(), 0);
+    c.tried.assign(c.reservoirs.size(), 0);
+    c.rejected.assign(c.reservoirs.size(), 0);
 
     // 1. Initial candidates.
     parallel_for_pixels(w, h, [&](int x, int y) {
@@ -79,19 +86,29 @@ class RestirDi final : public Integrator {
         const uint32_t p = uint32_t(y * w + x);
         const GSurface& cur = g.at(x, y);
         next[p] = c.reservoirs[p];
+        if (!cur.valid) return;
+        ++c.tried[p];
         int px, py;
-        if (!cur.valid || !reproject(*prev_cam, cur.p, px, py)) return;
+        if (!reproject(*prev_cam, cur.p, px, py)) {
+          ++c.rejected[p];
+          return;
+        }
         const GSurface& prev = c.previous_gbuffer.at(px, py);
         GSurface expected = cur;  // the current point as the previous camera saw it
         expected.depth = length(cur.p - prev_cam->position());
-        if (!similar_surfaces(expected, prev, di.depth_threshold, di.normal_threshold)) return;
+        if (!similar_surfaces(expected, prev, di.depth_threshold, di.normal_threshold)) {
+          ++c.rejected[p];
+          return;
+        }
         DiReservoir history = c.previous[size_t(py * w + px)];
         history.confidence = restir::capped_confidence(history.confidence, c.reservoirs[p].confidence, float(di.max_history));
         const GSurface* surfaces[2] = {&cur, &prev};
         const DiReservoir* inputs[2] = {&c.reservoirs[p], &history};
         DiBridge bridge{ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility};
         Pcg32 rng = make_rng(p, f, RngPass::temporal, seed, uint32_t(s));
-        next[p] = restir::combine(bridge, std::span<const DiReservoir* const>(inputs, 2), di.temporal_mis, rng);
+        restir::CombineInfo info;
+        next[p] = restir::combine(bridge, std::span<const DiReservoir* const>(inputs, 2), di.temporal_mis, rng, &info);
+        if (info.selected == 1) c.source[p] = 1;
       });
       c.reservoirs.swap(next);
     }
@@ -115,16 +132,22 @@ class RestirDi final : public Integrator {
         for (int j = 0; j < k; ++j) {
           Vec2 off = restir::spatial_offset(j, k, di.spatial_radius, rotation);
           int nx = x + int(std::lround(off.x)), ny = y + int(std::lround(off.y));
-          if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          ++c.tried[p];
+          const bool inside = !(nx == x && ny == y) && nx >= 0 && ny >= 0 && nx < w && ny < h;
+          if (!inside || !g.at(nx, ny).valid ||
+              (di.similarity_rejection && !similar_surfaces(cur, g.at(nx, ny), di.depth_threshold, di.normal_threshold))) {
+            ++c.rejected[p];
+            continue;
+          }
           const GSurface& ns = g.at(nx, ny);
-          if (!ns.valid) continue;
-          if (di.similarity_rejection && !similar_surfaces(cur, ns, di.depth_threshold, di.normal_threshold)) continue;
           surfaces[size_t(n)] = &ns;
           inputs[size_t(n)] = &c.reservoirs[size_t(ny * w + nx)];
           ++n;
         }
         DiBridge bridge{ctx_, surfaces.data(), di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility};
-        next[p] = restir::combine(bridge, std::span<const DiReservoir* const>(inputs.data(), size_t(n)), di.spatial_mis, rng);
+        restir::CombineInfo info;
+        next[p] = restir::combine(bridge, std::span<const DiReservoir* const>(inputs.data(), size_t(n)), di.spatial_mis, rng, &info);
+        if (info.selected > 0) c.source[p] = 2;
       });
       c.reservoirs.swap(next);
     }
@@ -134,6 +157,19 @@ class RestirDi final : public Integrator {
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& sf = g.at(x, y);
+      switch (o.render.debug_view) {
+        case DebugView::none:
+          break;
+        case DebugView::confidence:
+          sum[p] += Rgb(c.reservoirs[p].confidence);
+          return;
+        case DebugView::reuse_source:
+          sum[p] += Rgb(float(c.source[p]));
+          return;
+        case DebugView::rejected_shifts:
+          sum[p] += Rgb(c.tried[p] ? float(c.rejected[p]) / float(c.tried[p]) : 0.0f);
+          return;
+      }
       Rgb L = sf.valid ? sf.emitted : sf.background;
       if (sf.valid) {
         if (bsdf_is_delta(sf.bsdf)) {
