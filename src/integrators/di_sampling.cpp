@@ -28,22 +28,13 @@ float to_sample_measure(const Lights& lights, const LightPoint& y, Vec3 p, float
   return 0;
 }
 
-StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y) {
+StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y, bool need_bsdf) {
   StrategyPdfs r;
+  r.light = lights.point_pdf(y.emitter, y.position);
   const Lights::Kind kind = lights.kind(y.emitter);
-  Vec3 wi;
-  if (kind == Lights::Kind::environment) {
-    wi = y.position;
-    r.light = lights.environment_pdf(wi);
-  } else if (kind == Lights::Kind::point) {
-    r.light = lights.selection_pmf(y.emitter);
-    return r;  // BSDF sampling never hits a point light
-  } else {
-    wi = normalize(y.position - s.p);
-    r.light = to_sample_measure(lights, y, s.p, lights.pdf(y.emitter, s.p, y.position, y.normal));
-  }
-  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
-  r.bsdf = to_sample_measure(lights, y, s.p, bsdf_pdf(s.bsdf, wo_l, wi_l));
+  if (!need_bsdf || kind == Lights::Kind::point) return r;  // BSDF sampling never hits a point light
+  const Vec3 wi = kind == Lights::Kind::environment ? y.position : normalize(y.position - s.p);
+  r.bsdf = to_sample_measure(lights, y, s.p, bsdf_pdf(s.bsdf, s.frame.to_local(s.wo), s.frame.to_local(wi)));
   return r;
 }
 
@@ -105,17 +96,18 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   const float eps = ctx.accel.ray_epsilon();
   const float ml = float(light_candidates), mb = float(bsdf_candidates);
   auto weight = [&](const LightPoint& y, float target) {
-    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y);
+    if (!(target > 0)) return 0.0f;
+    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0);
     float den = ml * p.light + mb * p.bsdf;
     return den > 0 ? target / den : 0.0f;
   };
   for (int i = 0; i < light_candidates; ++i) {
-    LightSample ls;
+    EmitterPoint ep;
     float u_select = rng.next_float();
     Vec2 u = rng.next_2d();
     float u_stream = rng.next_float();
-    if (!ctx.lights.sample(s.p, u_select, u, ls)) continue;
-    LightPoint y{ls.position, ls.normal, ls.emitter};
+    if (!ctx.lights.sample_point(u_select, u, ep)) continue;
+    LightPoint y{ep.position, ep.normal, ep.emitter};
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
     restir::stream(r, y, t, weight(y, t), u_stream);
   }

@@ -26,7 +26,8 @@ Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility);
 
 // Initial resampling (Talbot et al. 2005 RIS with the balance heuristic over the two strategies):
-// light_candidates from the light sampler and bsdf_candidates by tracing BSDF samples to emitters,
+// light_candidates from the receiver-independent light sampler (Lights::sample_point: by power,
+// then uniform by area) and bsdf_candidates by tracing BSDF samples to emitters,
 // each with resampling weight p̂(x) / (M_l p_l(x) + M_b p_b(x)) (pdfs in the sample measure).
 // Confidence = M_l + M_b. With `visibility`, the chosen sample is shadow-tested and its weight
 // zeroed if occluded, making the reservoir's target p̂·V (Bitterli et al. 2020, §4.4 "visibility reuse").

@@ -184,6 +184,58 @@ Rgb Lights::emitted(uint32_t emitter, Vec3 n, Vec3 w) const {
   return Rgb(0);
 }
 
+bool Lights::sample_point(float u_select, Vec2 u, EmitterPoint& out) const {
+  out = {};
+  if (selection_.size() == 0) return false;
+  float pmf = 0;
+  const uint32_t idx = selection_.sample(u_select, &pmf);
+  if (!(pmf > 0)) return false;
+  const Emitter& e = emitters_[idx];
+  out.emitter = idx;
+  switch (e.kind) {
+    case Kind::triangle: {
+      if (!(e.area > 0)) return false;
+      const Vec3 b = sample_uniform_triangle(u);
+      out.position = e.p0 * b.x + e.p1 * b.y + e.p2 * b.z;
+      out.normal = e.n;
+      out.pdf = pmf / e.area;
+      break;
+    }
+    case Kind::sphere: {
+      const Vec3 n = sample_uniform_sphere(u);
+      out.position = e.p0 + n * e.radius;
+      out.normal = e.flip ? -n : n;
+      out.pdf = pmf / (4 * kPi * e.radius * e.radius);
+      break;
+    }
+    case Kind::point:
+      out.position = e.p0;
+      out.pdf = pmf;
+      break;
+    case Kind::environment: {
+      LightSample ls;
+      if (!sample_environment(u, ls)) return false;
+      out.position = ls.wi;
+      out.pdf = pmf * ls.pdf;
+      break;
+    }
+  }
+  return out.pdf > 0 && std::isfinite(out.pdf);
+}
+
+float Lights::point_pdf(uint32_t emitter, Vec3 position) const {
+  if (emitter >= emitters_.size()) return 0;
+  const Emitter& e = emitters_[emitter];
+  const float pmf = selection_.pmf(emitter);
+  switch (e.kind) {
+    case Kind::triangle: return e.area > 0 ? pmf / e.area : 0.0f;
+    case Kind::sphere: return pmf / (4 * kPi * e.radius * e.radius);
+    case Kind::point: return pmf;
+    case Kind::environment: return pmf * environment_pdf_unselected(position);
+  }
+  return 0;
+}
+
 bool Lights::sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const {
   out = {};
   if (selection_.size() == 0) return false;

@@ -47,6 +47,16 @@ struct LightSample {
 Vec3 equal_area_square_to_sphere(Vec2 p);
 Vec2 equal_area_sphere_to_square(Vec3 w);
 
+// A point on an emitter drawn independently of any receiving point (ReSTIR DI's light
+// candidates, Bitterli et al. 2020 §3: cheap to generate, reusable across pixels).
+struct EmitterPoint {
+  Vec3 position;   // on the emitter; the direction for the environment
+  Vec3 normal;     // geometric normal (zero for point lights / environment)
+  uint32_t emitter = 0xffffffffu;
+  float pdf = 0;   // selection pmf x density in the emitter's measure: 1/area (triangles, spheres,
+                   // uniform by area), solid angle (environment), 1 (point lights)
+};
+
 class Lights {
  public:
   enum class Kind : uint8_t { triangle, sphere, point, environment };
@@ -64,6 +74,12 @@ class Lights {
   // Point lights: 0. Environment emitter: light_p is taken as the direction (as in LightSample).
   // light_n is unused: the emitter's own geometric normal is used (the same as sample()).
   float pdf(uint32_t emitter, Vec3 p, Vec3 light_p, Vec3 light_n) const;
+  // Receiver-independent sampling: emitter by the selection table, then uniform by area on
+  // triangles and spheres (both sides of a sphere; the back is rejected later by its target),
+  // importance-sampled direction for the environment, the position for point lights.
+  bool sample_point(float u_select, Vec2 u, EmitterPoint& out) const;
+  // Density of sample_point() at a point of emitter e (direction for the environment), same measure.
+  float point_pdf(uint32_t emitter, Vec3 position) const;
   float environment_pdf(Vec3 dir) const;      // includes the selection probability; 0 without environment
   Rgb environment_radiance(Vec3 dir) const;   // radiance arriving from direction dir; 0 without environment
   bool has_environment() const { return env_emitter_ != kNoEmitter; }
