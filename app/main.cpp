@@ -76,6 +76,7 @@ int run_render(const RenderArgs& a) {
   RenderHooks hooks;
   hooks.progress_bar = !a.quiet;
   hooks.on_frame = [&](int f, const Image& img, double ms) {
+    if (!a.quiet && o.render.frames > 1) std::fprintf(stderr, "\r\033[Kframe %d: %.1f ms\n", f, ms);
     if (!a.frame_dir.empty()) {
       auto m = meta;
       m.emplace_back("restir.frame", std::to_string(f));
