@@ -1,0 +1,144 @@
+// The one temporal and the one spatial reuse pass shared by the ReSTIR integrators (DI, PT).
+// They own the pixel bookkeeping — reprojection, neighbour choice, similarity rejection, M-cap,
+// debug counters — and hand the resampling to restir::combine() through the integrator's bridge.
+// A bridge is made per pixel from the surfaces of the inputs (index 0 = the canonical pixel).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/parallel.h"
+#include "integrators/gbuffer.h"
+#include "integrators/options.h"
+#include "restir/mis.h"
+#include "restir/neighbors.h"
+
+namespace rl {
+
+struct ReuseParams {
+  bool temporal = true;
+  int max_history = 20;
+  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
+  int spatial_neighbors = 5;
+  float spatial_radius = 30;
+  int spatial_rounds = 1;
+  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  bool similarity_rejection = true;
+  float depth_threshold = 0.1f;
+  float normal_threshold = 25;
+};
+
+// Per-pixel diagnostics behind render.debug_view.
+struct ReuseDebug {
+  std::vector<uint8_t> source;             // 0 own sample, 1 temporal, 2 spatial
+  std::vector<uint16_t> tried, rejected;   // reuse candidates considered / rejected (or shift failed)
+  void reset(size_t n) {
+    source.assign(n, 0);
+    tried.assign(n, 0);
+    rejected.assign(n, 0);
+  }
+  float rejected_fraction(size_t p) const { return tried[p] ? float(rejected[p]) / float(tried[p]) : 0.0f; }
+};
+
+inline constexpr int kMaxReuseNeighbors = 64;
+
+// The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
+template <class Sample>
+bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const ReuseDebug& dbg, size_t p, Rgb& out) {
+  switch (view) {
+    case DebugView::none: return false;
+    case DebugView::confidence: out = Rgb(r.confidence); return true;
+    case DebugView::reuse_source: out = Rgb(float(dbg.source[p])); return true;
+    case DebugView::rejected_shifts: out = Rgb(dbg.rejected_fraction(p)); return true;
+  }
+  return false;
+}
+
+// Temporal reuse: combine each pixel's reservoir with last frame's final reservoir at the
+// reprojected pixel (if that surface is similar), history confidence capped (M-cap).
+template <class Sample, class MakeBridge>
+void temporal_pass(const ReuseParams& rp, const GBuffer& g, const GBuffer& previous_g, const PerspectiveCamera& previous_camera,
+                   std::vector<restir::Reservoir<Sample>>& reservoirs, const std::vector<restir::Reservoir<Sample>>& history,
+                   const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
+  using Res = restir::Reservoir<Sample>;
+  const int w = g.width, h = g.height;
+  std::vector<Res> next(reservoirs.size());
+  parallel_for_pixels(w, h, [&](int x, int y) {
+    const uint32_t p = uint32_t(y * w + x);
+    const GSurface& cur = g.at(x, y);
+    next[p] = reservoirs[p];
+    if (!cur.valid) return;
+    ++dbg.tried[p];
+    int px, py;
+    if (!reproject(previous_camera, cur.p, px, py)) {
+      ++dbg.rejected[p];
+      return;
+    }
+    const GSurface& prev = previous_g.at(px, py);
+    GSurface expected = cur;  // the current point as the previous camera saw it
+    expected.depth = length(cur.p - previous_camera.position());
+    if (!similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold)) {
+      ++dbg.rejected[p];
+      return;
+    }
+    Res hist = history[size_t(py * w + px)];
+    hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, float(rp.max_history));
+    const GSurface* surfaces[2] = {&cur, &prev};
+    const Res* inputs[2] = {&reservoirs[p], &hist};
+    auto bridge = make_bridge(surfaces, 2);
+    Pcg32 rng = make_rng(p, frame, RngPass::temporal, seed, chain);
+    restir::CombineInfo info;
+    next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
+    dbg.rejected[p] += uint16_t(info.failed_shifts);
+    if (info.selected == 1) dbg.source[p] = 1;
+  });
+  reservoirs.swap(next);
+}
+
+// Spatial reuse rounds: each pixel combines its reservoir with those of up to spatial_neighbors
+// pixels on a rotated golden-angle spiral within spatial_radius (reading one buffer, writing the other).
+template <class Sample, class MakeBridge>
+void spatial_passes(const ReuseParams& rp, const GBuffer& g, std::vector<restir::Reservoir<Sample>>& reservoirs,
+                    const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
+  using Res = restir::Reservoir<Sample>;
+  const int w = g.width, h = g.height;
+  const int k = std::min(rp.spatial_neighbors, kMaxReuseNeighbors);
+  for (int round = 0; k > 0 && round < rp.spatial_rounds; ++round) {
+    std::vector<Res> next(reservoirs.size());
+    parallel_for_pixels(w, h, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * w + x);
+      const GSurface& cur = g.at(x, y);
+      next[p] = reservoirs[p];
+      if (!cur.valid) return;
+      Pcg32 rng = make_rng(p, frame, RngPass::spatial, seed, chain * 16u + uint32_t(round));
+      std::array<const GSurface*, kMaxReuseNeighbors + 1> surfaces;
+      std::array<const Res*, kMaxReuseNeighbors + 1> inputs;
+      surfaces[0] = &cur;
+      inputs[0] = &reservoirs[p];
+      int n = 1;
+      const float rotation = rng.next_float();
+      for (int j = 0; j < k; ++j) {
+        Vec2 off = restir::spatial_offset(j, k, rp.spatial_radius, rotation);
+        int nx = x + int(std::lround(off.x)), ny = y + int(std::lround(off.y));
+        ++dbg.tried[p];
+        const bool inside = !(nx == x && ny == y) && nx >= 0 && ny >= 0 && nx < w && ny < h;
+        if (!inside || !g.at(nx, ny).valid ||
+            (rp.similarity_rejection && !similar_surfaces(cur, g.at(nx, ny), rp.depth_threshold, rp.normal_threshold))) {
+          ++dbg.rejected[p];
+          continue;
+        }
+        surfaces[size_t(n)] = &g.at(nx, ny);
+        inputs[size_t(n)] = &reservoirs[size_t(ny * w + nx)];
+        ++n;
+      }
+      auto bridge = make_bridge(surfaces.data(), n);
+      restir::CombineInfo info;
+      next[p] = restir::combine(bridge, std::span<const Res* const>(inputs.data(), size_t(n)), rp.spatial_mis, rng, &info);
+      dbg.rejected[p] += uint16_t(info.failed_shifts);
+      if (info.selected > 0) dbg.source[p] = 2;
+    });
+    reservoirs.swap(next);
+  }
+}
+
+}  // namespace rl
