@@ -14,6 +14,8 @@
 #include "integrators/render.h"
 #include "scene/lights.h"
 #include "scene/loader.h"
+#include "study/runner.h"
+#include "study/study_file.h"
 
 using namespace rl;
 namespace fs = std::filesystem;
@@ -192,6 +194,17 @@ int main(int argc, char** argv) {
 
   auto* options = app.add_subcommand("options", "list every option key with its type, default and meaning");
 
+  study::StudyArgs sa;
+  bool study_list = false;
+  auto* study_cmd = app.add_subcommand("study", "run a parameter study: sweep, metrics, CSV, plots, report.html");
+  study_cmd->add_option("study", sa.study, "built-in study name (see --list) or path to a study JSON file");
+  study_cmd->add_option("--out", sa.out, "output folder (results, references, images, plots, report.html)");
+  study_cmd->add_flag("--quick", sa.quick, "apply the study's \"quick\" block (tiny resolution, few seeds and frames)");
+  study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(CLI::PositiveNumber);
+  study_cmd->add_flag("--list", study_list, "list the built-in studies");
+  study_cmd->add_flag("-q,--quiet", sa.quiet, "no progress or summary on stderr");
+  study_cmd->footer("Resumable: rows already in OUT/results.json are not recomputed. Format: studies/README.md.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -201,6 +214,15 @@ int main(int argc, char** argv) {
     if (*render) return run_render(ra);
     if (*info) return run_info(info_scene);
     if (*compare) return run_compare(cmp_a, cmp_b, cmp_json);
+    if (*study_cmd) {
+      if (study_list) {
+        for (const auto& [name, description] : study::list_studies()) fmt::print("{:<18} {}\n", name, description);
+        return 0;
+      }
+      if (sa.study.empty()) throw std::runtime_error("study: give a study name or file (or --list)");
+      if (sa.out.empty()) throw std::runtime_error("study: --out DIR is required");
+      return study::run_study(sa);
+    }
     if (*options) {
       std::string integrators;
       for (const auto& i : integrator_registry()) integrators += fmt::format("  {:<12} {}\n", i.name, i.description);

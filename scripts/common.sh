@@ -2,7 +2,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PACKAGES=(g++ cmake ninja-build pkg-config libembree-dev libtbb-dev libopenexr-dev libstb-dev
-  libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev)
+  libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev gnuplot-nox)
 
 install_missing_packages() {
   local missing=()

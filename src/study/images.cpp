@@ -1,0 +1,107 @@
+#include "study/images.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "image/image_io.h"
+#include "image/tonemap.h"
+#if __has_include("image/flip.h")
+#include "image/flip.h"
+#define RESTIR_STUDY_HAS_FLIP 1
+#endif
+
+namespace rl::study {
+
+bool flip_available() {
+#ifdef RESTIR_STUDY_HAS_FLIP
+  return true;
+#else
+  return false;
+#endif
+}
+
+double flip_metric(const Image& test, const Image& ref, const OutputOptions& o) {
+#ifdef RESTIR_STUDY_HAS_FLIP
+  OutputOptions srgb = o;
+  srgb.srgb = true;  // FLIP takes sRGB-encoded LDR images
+  return mean_flip(tonemap(test, srgb), tonemap(ref, srgb));
+#else
+  (void)test, (void)ref, (void)o;
+  return std::numeric_limits<double>::quiet_NaN();
+#endif
+}
+
+namespace {
+[[maybe_unused]] float luminance(const Rgb& c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+Rgb heat(float v) {
+  v = std::clamp(std::isfinite(v) ? v : 1.0f, 0.0f, 1.0f);
+  // black -> red -> yellow -> white, already display-ready.
+  return Rgb(std::min(1.0f, 3 * v), std::clamp(3 * v - 1, 0.0f, 1.0f), std::clamp(3 * v - 2, 0.0f, 1.0f));
+}
+}  // namespace
+
+Image error_map(const Image& test, const Image& ref, const OutputOptions& o) {
+  if (test.width != ref.width || test.height != ref.height) throw std::invalid_argument("error_map: image sizes differ");
+  Image out(test.width, test.height);
+#ifdef RESTIR_STUDY_HAS_FLIP
+  OutputOptions srgb = o;
+  srgb.srgb = true;
+  Image f = flip_error_map(tonemap(test, srgb), tonemap(ref, srgb));
+  for (size_t i = 0; i < f.size(); ++i) out.pixels[i] = heat(f.pixels[i][0]);
+#else
+  (void)o;
+  for (size_t i = 0; i < test.size(); ++i) {
+    float r = luminance(ref.pixels[i]);
+    out.pixels[i] = heat(std::abs(luminance(test.pixels[i]) - r) / (std::abs(r) + 0.01f));
+  }
+#endif
+  return out;
+}
+
+Image zoom_crop(const Image& ldr, int scale) {
+  int cw = std::min(ldr.width, std::max(8, ldr.width / 4)), ch = std::min(ldr.height, std::max(8, ldr.height / 4));
+  int x0 = (ldr.width - cw) / 2, y0 = (ldr.height - ch) / 2;
+  Image out(cw * scale, ch * scale);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) out.at(x, y) = ldr.at(x0 + x / scale, y0 + y / scale);
+  return out;
+}
+
+double noise_across(const std::vector<Image>& images) {
+  if (images.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  const size_t n = images.front().size();
+  for (const auto& im : images)
+    if (im.size() != n) throw std::invalid_argument("noise_across: image sizes differ");
+  double total = 0;
+  const double k = double(images.size());
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      double s = 0, ss = 0;
+      for (const auto& im : images) {
+        double v = im.pixels[i][c];
+        s += v;
+        ss += v * v;
+      }
+      double mean = s / k;
+      total += std::sqrt(std::max(0.0, (ss - k * mean * mean) / (k - 1)));
+    }
+  return total / (3.0 * double(n));
+}
+
+void write_config_images(const std::string& prefix, const Image& img, const Image* ref, const OutputOptions& o, bool exr) {
+  if (exr) write_exr(prefix + ".exr", img);
+  Image ldr = tonemap(img, o);
+  write_png(prefix + ".png", ldr);
+  write_png(prefix + "-crop.png", zoom_crop(ldr));
+  if (ref) {
+    Image e = error_map(img, *ref, o);
+    write_png(prefix + "-error.png", e);
+    write_png(prefix + "-error-crop.png", zoom_crop(e));
+  }
+}
+
+}  // namespace rl::study

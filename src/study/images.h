@@ -1,0 +1,31 @@
+// Per-configuration images of a study: EXR + tone-mapped PNG, an error map PNG (FLIP map where
+// image/flip.h is built in, else the relative error), zoomed crops for the report, and the metrics
+// that compare an image with its reference.
+#pragma once
+#include <string>
+
+#include "image/image.h"
+#include "integrators/options.h"
+
+namespace rl::study {
+
+// Mean LDR-FLIP of the tone-mapped images (o = the configuration's output options), or NaN when
+// no FLIP implementation is compiled in.
+double flip_metric(const Image& test, const Image& ref, const OutputOptions& o);
+bool flip_available();
+
+// Error map as a colour-mapped LDR image (black -> red -> yellow -> white): FLIP of the tone-mapped
+// images, else min(1, |t - r| / (r + 0.01)) on luminance.
+Image error_map(const Image& test, const Image& ref, const OutputOptions& o);
+
+// The centre quarter of the image (at least 8x8 pixels), scaled up by an integer factor.
+Image zoom_crop(const Image& ldr, int scale = 4);
+
+// Per-pixel standard deviation across images (same size, >= 2), mean over pixels and channels.
+double noise_across(const std::vector<Image>& images);
+
+// Writes PREFIX.exr, PREFIX.png, PREFIX-crop.png (and with ref: PREFIX-error.png, PREFIX-error-crop.png).
+void write_config_images(const std::string& prefix, const Image& img, const Image* ref, const OutputOptions& o,
+                         bool exr = true);
+
+}  // namespace rl::study

@@ -1,0 +1,82 @@
+#include "study/references.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "image/image_io.h"
+#include "integrators/render.h"
+#include "scene/camera.h"
+#include "study/results.h"
+
+namespace rl::study {
+namespace fs = std::filesystem;
+
+namespace {
+Camera camera_of(const Scene& scene, const Options& o) {
+  Camera c = scene.camera;
+  if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, c);
+  if (c.keys.empty()) c.keys.push_back(CameraKey{});
+  return c;
+}
+}  // namespace
+
+bool camera_moves(const Scene& scene, const Options& o) {
+  return o.render.frames > 1 && camera_of(scene, o).keys.size() > 1;
+}
+
+CameraKey camera_at(const Scene& scene, const Options& o, int frame) {
+  return camera_of(scene, o).at_frame(frame, o.render.frames);
+}
+
+ReferenceCache::ReferenceCache(std::string dir) : dir_(std::move(dir)) {}
+
+std::string ReferenceCache::path(const std::string& key) const { return (fs::path(dir_) / (key + ".exr")).string(); }
+
+bool ReferenceCache::on_disk(const std::string& key) const { return fs::exists(path(key)); }
+
+ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const std::string& scene_as_written,
+                                      const std::string& scene_file_text, const Options& scene_defaults,
+                                      const Options& o, int frame) const {
+  ReferenceJob j;
+  Options r = scene_defaults;
+  set_option(r, "integrator", "pt");
+  r.film = o.film;
+  r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
+  set_option(r, "render.spp", std::to_string(s.reference.spp));
+  set_option(r, "render.seed", std::to_string(s.reference.seed));
+  set_option(r, "render.frames", "1");
+  for (const auto& [k, v] : s.reference.options) set_option(r, k, v);
+  r.render.camera_path.clear();
+  r.render.threads = 0;
+  r.output = OutputOptions{};  // the display transform is not part of the reference
+  j.options = r;
+  j.camera = camera_at(scene, o, frame);
+  std::string text = non_default_options(r) + scene_as_written + "\n" + scene_file_text + "\ncamera";
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) text += fmt::format(" {:.6g}", j.camera.camera_from_world.m[a][b]);
+  text += fmt::format(" fov {:.6g}", j.camera.fov_degrees);
+  j.key = hash_hex(text);
+  return j;
+}
+
+const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
+  std::lock_guard lock(mutex_);
+  auto it = images_.find(job.key);
+  if (it != images_.end()) return it->second;
+  fs::create_directories(dir_);
+  const std::string p = path(job.key);
+  if (fs::exists(p)) {
+    ++reused_;
+    return images_[job.key] = read_image(p);
+  }
+  Scene moved = scene;  // render the frame's camera as a static one
+  moved.camera.keys = {job.camera};
+  RenderResult res = render(moved, job.options, {});
+  write_exr(p, res.last,
+            {{"restir.version", RESTIR_VERSION}, {"restir.config", options_to_json(job.options, -1)}, {"restir.reference", "1"}});
+  ++rendered_;
+  return images_[job.key] = std::move(res.last);
+}
+
+}  // namespace rl::study

@@ -1,0 +1,192 @@
+#include "study/report.h"
+
+#include <sys/utsname.h>
+
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "image/image_io.h"
+#include "study/images.h"
+
+namespace rl::study {
+namespace fs = std::filesystem;
+
+namespace {
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '&': o += "&amp;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+std::string fmt_stat(const Stat& st) {
+  if (st.n == 0) return "–";
+  if (st.n < 2) return fmt::format("{:.4g}", st.mean);
+  return fmt::format("{:.4g} ± {:.2g}", st.mean, st.stderr_);
+}
+
+std::string values_text(const ReportConfig& c) {
+  std::string t;
+  for (const auto& [k, v] : c.values) t += (t.empty() ? "" : ", ") + k + " = " + v;
+  return t.empty() ? "base" : t;
+}
+}  // namespace
+
+std::string machine_description() {
+  std::string model;
+  int logical = 0;
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0 && model.empty()) {
+      auto c = line.find(':');
+      if (c != std::string::npos) model = line.substr(c + 2);
+    }
+    if (line.rfind("processor", 0) == 0) ++logical;
+  }
+  if (model.empty()) model = "unknown CPU";
+  utsname u{};
+  std::string os = uname(&u) == 0 ? fmt::format("{} {} {}", u.sysname, u.release, u.machine) : "unknown OS";
+  return fmt::format("{}; {} logical cores in /proc/cpuinfo, {} hardware threads usable; {}", model, logical,
+                     std::thread::hardware_concurrency(), os);
+}
+
+std::string build_description() {
+#ifdef NDEBUG
+  const char* type = "optimised (NDEBUG)";
+#else
+  const char* type = "debug (assertions on)";
+#endif
+#if defined(__clang__)
+  std::string compiler = "clang " __clang_version__;
+#elif defined(__GNUC__)
+  std::string compiler = "g++ " __VERSION__;
+#else
+  std::string compiler = "unknown compiler";
+#endif
+  return fmt::format("restir {}; {}; {}; built {} {}; FLIP metric {}", RESTIR_VERSION, compiler, type, __DATE__, __TIME__,
+                     flip_available() ? "built in" : "not built (relative error maps instead)");
+}
+
+void write_report(const std::string& out_dir, const Study& s, const std::vector<Row>& rows,
+                  const std::vector<ReportConfig>& configs, const std::vector<PlotResult>& plots, const ReportInfo& info) {
+  const fs::path out(out_dir);
+  std::string h;
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
+  h += fmt::format("<title>restir study: {}</title>\n", esc(s.name));
+  h += "<style>body{font-family:sans-serif;margin:1.5em;max-width:1400px}table{border-collapse:collapse;font-size:90%}"
+       "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}th{background:#eee}td.l,th.l{text-align:left}"
+       ".grid{display:flex;flex-wrap:wrap;gap:10px}.cell{font-size:80%;max-width:300px}"
+       ".cell img{width:280px;image-rendering:pixelated;display:block;border:1px solid #ccc}"
+       ".plot img{max-width:900px;width:100%}.note{background:#fff7d6;padding:6px}</style></head><body>\n";
+  std::time_t now = std::time(nullptr);
+  char when[64];
+  std::strftime(when, sizeof(when), "%Y-%m-%d %H:%M:%S", std::localtime(&now));
+  h += fmt::format("<h1>Study <code>{}</code>{}</h1>\n<p>{}</p>\n", esc(s.name), info.quick ? " (quick)" : "", esc(s.description));
+  h += "<h2>Run</h2><ul>\n";
+  h += fmt::format("<li>study file: <code>{}</code>; written {}</li>\n", esc(s.file), when);
+  h += fmt::format("<li>{} scene(s) × {} configuration(s) × {} seed(s), {} frame(s) each; {} of {} job(s) run now (the rest "
+                   "resumed from results.json), {:.1f} s</li>\n",
+                   s.scenes.size(), configs.size() / std::max<size_t>(1, s.scenes.size()), s.seeds.size(), s.frames,
+                   info.jobs_run, info.jobs_total, info.seconds);
+  h += fmt::format("<li>references: path tracer, {} spp; {} rendered now, {} reused from <code>references/</code></li>\n",
+                   s.reference.spp, info.references_rendered, info.references_reused);
+  h += fmt::format("<li>machine: {}</li>\n<li>build: {}</li>\n", esc(machine_description()), esc(build_description()));
+  h += fmt::format("<li>--jobs {}</li></ul>\n", info.jobs);
+  if (info.jobs > 1)
+    h += "<p class=\"note\">This run rendered several configurations at once (--jobs &gt; 1): they shared the CPU "
+         "cores, so frame times and fps are noisier and higher than with --jobs 1. Use --jobs 1 for timing studies.</p>\n";
+  h += "<p>Data: <a href=\"results.csv\">results.csv</a>, <a href=\"results.json\">results.json</a>. Metrics: "
+       "<code>ms_median</code>/<code>ms_iqr</code> frame time (median, interquartile range over frames), <code>fps</code> = "
+       "1000 / ms_median, <code>mse</code>, <code>relmse</code> (pbrt's relative MSE, eps 0.01) and <code>flip</code> (mean "
+       "LDR-FLIP after the configuration's tone mapper) of the last frame against the reference, <code>convergence</code> = "
+       "relMSE of the running mean of frames 0..f, <code>noise</code> = per-pixel standard deviation across seeds of the "
+       "last frame, mean over pixels. Error bars: mean ± standard error over seeds (and pooled axes).</p>\n";
+
+  h += "<h2>Plots</h2>\n";
+  for (const auto& p : plots) {
+    h += fmt::format("<div class=\"plot\"><h3>{}</h3>\n", esc(p.title));
+    if (p.drawn)
+      h += fmt::format("<img src=\"plots/{0}.png\" alt=\"{1}\"><br>\n", esc(p.name), esc(p.title));
+    else
+      h += fmt::format("<p class=\"note\">not drawn: {}</p>\n", esc(p.message));
+    h += fmt::format("<a href=\"plots/{0}.svg\">SVG</a> · <a href=\"plots/{0}.gp\">gnuplot script</a> · "
+                     "<a href=\"plots/{0}.dat\">data</a></div>\n",
+                     esc(p.name));
+  }
+
+  // Configuration table: one row per (scene, configuration); metrics over seeds at the last frame.
+  const auto cols = metric_columns(s);
+  h += "<h2>Configurations</h2>\n<table class=\"configurations\">\n<tr><th class=\"l\">scene</th><th class=\"l\">configuration</th>"
+       "<th class=\"l\">id</th><th>seeds</th>";
+  for (const auto& c : cols) h += "<th>" + esc(c) + "</th>";
+  h += "</tr>\n";
+  std::map<std::string, std::vector<const Row*>> by_config;
+  for (const auto& r : rows)
+    if (r.frame == s.frames - 1) by_config[r.config].push_back(&r);
+  for (const auto& c : configs) {
+    const auto& rs = by_config[c.config];
+    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\"><code>{}</code></td><td>{}</td>",
+                     esc(c.scene), esc(values_text(c)), c.config, rs.size());
+    for (const auto& col : cols) {
+      std::vector<double> v;
+      for (const Row* r : rs) v.push_back(r->metric(col));
+      h += "<td>" + fmt_stat(stat_of(v)) + "</td>";
+    }
+    h += "</tr>\n";
+  }
+  h += "</table>\n";
+  // Base options of the study (what every configuration shares).
+  if (!s.base.empty()) {
+    h += "<p>Base options:";
+    for (const auto& [k, v] : s.base) h += fmt::format(" <code>{}={}</code>", esc(k), esc(v));
+    h += fmt::format(" <code>render.frames={}</code></p>\n", s.frames);
+  }
+
+  // Image grids per scene: reference, each configuration (first seed, last frame), error maps, crops.
+  h += "<h2>Images</h2>\n<p>Last frame of the first seed. Crops: the centre quarter, 4× nearest-neighbour. Error maps: "
+       + std::string(flip_available() ? "FLIP" : "relative error") + " (black = none, white = large).</p>\n";
+  std::set<std::string> scenes_done;
+  for (const auto& sc : s.scenes) {
+    if (!scenes_done.insert(sc).second) continue;
+    h += fmt::format("<h3>{}</h3>\n<div class=\"grid\">\n", esc(sc));
+    bool ref_shown = false;
+    for (const auto& c : configs) {
+      if (c.scene != sc) continue;
+      auto exists = [&](const std::string& f) { return fs::exists(out / "images" / f); };
+      if (!ref_shown && c.has_reference && exists("ref-" + c.config + ".png")) {
+        h += fmt::format("<div class=\"cell\"><b>reference</b><img src=\"images/ref-{0}.png\" alt=\"reference\">"
+                         "<img src=\"images/ref-{0}-crop.png\" alt=\"reference crop\"></div>\n",
+                         c.config);
+        ref_shown = true;
+      }
+      if (!exists(c.config + ".png")) continue;
+      h += fmt::format("<div class=\"cell\"><b>{1}</b><img src=\"images/{0}.png\" alt=\"{1}\">"
+                       "<img src=\"images/{0}-crop.png\" alt=\"crop\">",
+                       c.config, esc(values_text(c)));
+      if (exists(c.config + "-error.png"))
+        h += fmt::format("<img src=\"images/{0}-error.png\" alt=\"error map\"><img src=\"images/{0}-error-crop.png\" "
+                         "alt=\"error crop\">",
+                         c.config);
+      h += fmt::format("<a href=\"images/{}.exr\">EXR</a></div>\n", c.config);
+    }
+    h += "</div>\n";
+  }
+  h += "</body></html>\n";
+  write_text_file_atomic((out / "report.html").string(), h);
+}
+
+}  // namespace rl::study

@@ -1,0 +1,363 @@
+#include "study/runner.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "image/image_io.h"
+#include "image/metrics.h"
+#include "integrators/integrator.h"
+#include "integrators/render.h"
+#include "scene/loader.h"
+#include "study/images.h"
+#include "study/plots.h"
+#include "study/references.h"
+#include "study/report.h"
+#include "study/results.h"
+#include "study/study_file.h"
+
+namespace rl::study {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_signal(int sig) {
+  g_interrupted = true;
+  std::signal(sig, SIG_DFL);  // a second signal ends the process at once
+}
+
+struct SceneData {
+  std::string as_written, path, text;
+  Scene scene;
+  Options defaults;  // defaults < scene hints
+};
+
+struct Job {
+  size_t index = 0;
+  size_t scene = 0, config = 0;
+  uint64_t seed = 0;
+  bool first_seed = false;
+  Options options;
+  std::string id, config_id;
+  std::vector<ReferenceJob> refs;  // per frame (moving camera) or one (static camera)
+};
+
+std::string read_text(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The identity of a configuration: every option except the thread count (which does not change
+// the image) plus the scene as written in the study. Only values that differ from the defaults
+// enter, so that options added to the renderer later do not change the ids of existing rows.
+std::string option_identity(Options o, const std::string& scene) {
+  o.render.threads = 0;
+  return non_default_options(o) + "scene=" + scene;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return kNone;
+  std::sort(v.begin(), v.end());
+  double pos = q * double(v.size() - 1);
+  size_t i = size_t(pos);
+  double f = pos - double(i);
+  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
+}
+
+class Progress {
+ public:
+  Progress(size_t total, bool enabled) : total_(total), enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void step(const std::string& what) {
+    std::lock_guard lock(mutex_);
+    ++done_;
+    if (!enabled_) return;
+    double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    double f = total_ ? double(done_) / double(total_) : 1;
+    int filled = int(f * 30);
+    double eta = done_ ? el * double(total_ - done_) / double(done_) : 0;
+    std::fprintf(stderr, "\r\033[K[%.*s%*s] %zu/%zu  %s  ETA %.0fs", filled, "##############################", 30 - filled, "",
+                 done_, total_, what.c_str(), eta);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (enabled_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  size_t total_, done_ = 0;
+  bool enabled_;
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+void remove_stale_temp_files(const fs::path& dir) {
+  if (!fs::exists(dir)) return;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file() && e.path().filename().string().find(".tmp-") != std::string::npos) fs::remove(e.path());
+}
+
+std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, ReferenceCache& refs,
+                         const std::string& out) {
+  const Options& o = job.options;
+  std::vector<const Image*> ref_images;
+  for (const auto& r : job.refs) ref_images.push_back(&refs.get(r, sd.scene));
+  auto ref_of = [&](int frame) -> const Image* {
+    if (ref_images.empty()) return nullptr;
+    return ref_images.size() == 1 ? ref_images[0] : ref_images[size_t(frame)];
+  };
+  const bool moving = ref_images.size() > 1;
+  const auto values = option_values(o);
+  const bool per_frame = s.per_frame();
+
+  std::vector<Row> rows;
+  Image running;
+  auto base_row = [&](int frame) {
+    Row r;
+    r.id = job.id;
+    r.config = job.config_id;
+    r.scene = sd.as_written;
+    r.seed = job.seed;
+    r.frame = frame;
+    r.options = values;
+    return r;
+  };
+  auto image_metrics = [&](Row& row, const Image& img, const Image& ref, bool flip) {
+    if (s.has_metric("mse")) row.metrics["mse"] = mse(img, ref);
+    if (s.has_metric("relmse")) row.metrics["relmse"] = rel_mse(img, ref);
+    if (s.has_metric("flip") && flip) row.metrics["flip"] = flip_metric(img, ref, o.output);
+  };
+
+  RenderHooks hooks;
+  hooks.on_frame = [&](int f, const Image& img, double ms) {
+    if (!per_frame) return;
+    if (running.empty()) running = Image(img.width, img.height);
+    const float w = 1.0f / float(f + 1);
+    for (size_t i = 0; i < img.size(); ++i) running.pixels[i] += (img.pixels[i] - running.pixels[i]) * w;
+    Row row = base_row(f);
+    row.metrics["ms_median"] = ms;
+    row.metrics["ms_iqr"] = 0;
+    row.metrics["fps"] = 1000.0 / ms;
+    if (const Image* ref = ref_of(f)) {
+      image_metrics(row, img, *ref, f + 1 == o.render.frames);
+      // Convergence of the running mean: meaningful for a static camera only.
+      if (!moving) row.metrics["convergence"] = rel_mse(running, *ref);
+    }
+    rows.push_back(std::move(row));
+  };
+  RenderResult res = render(sd.scene, o, hooks);
+  const Image* last_ref = ref_of(o.render.frames - 1);
+  if (!per_frame) {
+    Row row = base_row(o.render.frames - 1);
+    double med = percentile(res.frame_ms, 0.5);
+    row.metrics["ms_median"] = med;
+    row.metrics["ms_iqr"] = percentile(res.frame_ms, 0.75) - percentile(res.frame_ms, 0.25);
+    row.metrics["fps"] = 1000.0 / med;
+    if (last_ref) image_metrics(row, res.last, *last_ref, true);
+    rows.push_back(std::move(row));
+  }
+  // The last frame of every seed, for the noise across seeds.
+  if (s.has_metric("noise")) write_exr((fs::path(out) / "renders" / (job.id + ".exr")).string(), res.last);
+  if (job.first_seed) {
+    const std::string prefix = (fs::path(out) / "images" / job.config_id).string();
+    write_config_images(prefix, res.last, last_ref, o.output);
+    if (last_ref) write_config_images((fs::path(out) / "images" / ("ref-" + job.config_id)).string(), *last_ref, nullptr, o.output, false);
+  }
+  return rows;
+}
+
+}  // namespace
+
+int run_study(const StudyArgs& a) {
+  const auto t_start = std::chrono::steady_clock::now();
+  if (a.jobs < 1) throw StudyError("--jobs must be >= 1");
+  const std::string file = find_study(a.study);
+  const Study s = load_study(file, a.quick);
+  if (a.out.empty()) throw StudyError("--out DIR is required");
+  const fs::path out(a.out);
+  for (const char* d : {"", "references", "renders", "images", "plots"}) fs::create_directories(out / d);
+  remove_stale_temp_files(out);
+
+  // Scenes, configurations, jobs. Everything is validated before the first render.
+  std::vector<SceneData> scenes(s.scenes.size());
+  for (size_t i = 0; i < s.scenes.size(); ++i) {
+    scenes[i].as_written = s.scenes[i];
+    scenes[i].path = s.scene_paths[i];
+    scenes[i].text = read_text(s.scene_paths[i]);
+    scenes[i].scene = load_scene(s.scene_paths[i]);
+    apply_scene_hints(scenes[i].defaults, scenes[i].scene.hints);
+  }
+  const std::vector<Configuration> configs = expand(s);
+  ReferenceCache refs((out / "references").string());
+  std::vector<Job> jobs;
+  std::vector<ReportConfig> report_configs;
+  for (size_t si = 0; si < scenes.size(); ++si)
+    for (size_t ci = 0; ci < configs.size(); ++ci) {
+      for (size_t k = 0; k < s.seeds.size(); ++k) {
+        Job j;
+        j.index = jobs.size();
+        j.scene = si;
+        j.config = ci;
+        j.seed = s.seeds[k];
+        j.first_seed = k == 0;
+        try {
+          j.options = make_options(s, scenes[si].defaults, configs[ci], j.seed);
+        } catch (const std::exception& e) {
+          throw StudyError(fmt::format("{}: scene {}: {}", file, s.scenes[si], e.what()));
+        }
+        find_integrator(j.options.integrator);
+        j.id = hash_hex(option_identity(j.options, s.scenes[si]));
+        Options no_seed = j.options;
+        no_seed.render.seed = 0;
+        j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]));
+        if (s.needs_reference()) {
+          const SceneData& sd = scenes[si];
+          if (s.per_frame() && camera_moves(sd.scene, j.options)) {
+            for (int f = 0; f < s.frames; ++f)
+              j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text, sd.defaults, j.options, f));
+          } else {
+            j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text, sd.defaults, j.options, s.frames - 1));
+          }
+        }
+        if (j.first_seed) report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
+        jobs.push_back(std::move(j));
+      }
+    }
+
+  std::vector<std::string> columns = metric_columns(s);
+  ResultStore store(out.string(), s.name, columns);
+  store.load();
+  std::vector<const Job*> pending;
+  for (const auto& j : jobs)
+    if (!store.has(j.id)) pending.push_back(&j);
+
+  // References first (sequential, each with every thread), then the jobs.
+  std::vector<const ReferenceJob*> ref_todo;
+  std::set<std::string> ref_keys;
+  for (const Job* j : pending)
+    for (const auto& r : j->refs)
+      if (ref_keys.insert(r.key).second && !refs.on_disk(r.key)) ref_todo.push_back(&r);
+
+  if (!a.quiet)
+    std::fprintf(stderr, "study %s%s: %zu scene(s) x %zu configuration(s) x %zu seed(s) = %zu job(s), %zu to run, %zu reference(s) to render, --jobs %d\n",
+                 s.name.c_str(), a.quick ? " (quick)" : "", scenes.size(), configs.size(), s.seeds.size(), jobs.size(),
+                 pending.size(), ref_todo.size(), a.jobs);
+
+  g_interrupted = false;
+  auto old_int = std::signal(SIGINT, on_signal);
+  auto old_term = std::signal(SIGTERM, on_signal);
+  Progress progress(ref_todo.size() + pending.size(), !a.quiet);
+  for (const ReferenceJob* r : ref_todo) {
+    if (g_interrupted) break;
+    const Job* owner = nullptr;
+    for (const Job* j : pending)
+      for (const auto& rr : j->refs)
+        if (&rr == r) owner = j;
+    refs.get(*r, scenes[owner->scene].scene);
+    progress.step("reference " + r->key.substr(0, 8));
+  }
+
+  std::atomic<size_t> next{0};
+  std::mutex error_mutex;
+  std::string error;
+  auto worker = [&] {
+    for (;;) {
+      if (g_interrupted) return;
+      {
+        std::lock_guard lock(error_mutex);
+        if (!error.empty()) return;
+      }
+      size_t i = next++;
+      if (i >= pending.size()) return;
+      const Job& j = *pending[i];
+      try {
+        std::vector<Row> rows = run_job(s, j, scenes[j.scene], refs, out.string());
+        store.append(rows);
+        progress.step(fmt::format("{} seed {}", s.scenes[j.scene], j.seed));
+      } catch (const std::exception& e) {
+        std::lock_guard lock(error_mutex);
+        if (error.empty()) error = e.what();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < std::min<int>(a.jobs, int(pending.size())); ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  progress.finish();
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  if (!error.empty()) throw std::runtime_error(error);
+  if (g_interrupted) {
+    std::fprintf(stderr, "interrupted: %zu row(s) saved in %s; run the same command again to resume\n", store.size(),
+                 (out / "results.csv").c_str());
+    return 130;
+  }
+
+  // Final pass: noise across seeds, rows in job order, plots, report.
+  std::map<std::string, size_t> order;
+  std::map<std::string, std::vector<std::string>> seeds_of_config;
+  for (const auto& j : jobs) {
+    order[j.id] = j.index;
+    seeds_of_config[j.config_id].push_back(j.id);
+  }
+  std::vector<Row> rows = store.rows();
+  if (s.has_metric("noise")) {
+    std::map<std::string, double> noise;
+    for (const auto& [cfg, ids] : seeds_of_config) {
+      std::vector<Image> imgs;
+      for (const auto& id : ids) {
+        fs::path p = out / "renders" / (id + ".exr");
+        if (fs::exists(p)) imgs.push_back(read_image(p.string()));
+      }
+      noise[cfg] = noise_across(imgs);
+    }
+    for (auto& r : rows) {
+      auto it = noise.find(r.config);
+      bool last = r.frame == s.frames - 1;
+      r.metrics["noise"] = it != noise.end() && last ? it->second : kNone;
+    }
+  }
+  std::stable_sort(rows.begin(), rows.end(), [&](const Row& x, const Row& y) {
+    auto ix = order.count(x.id) ? order[x.id] : jobs.size(), iy = order.count(y.id) ? order[y.id] : jobs.size();
+    return ix != iy ? ix < iy : x.frame < y.frame;
+  });
+  // Rows of configurations that are no longer in the study stay in the files but not in plots.
+  store.replace(rows);
+  std::vector<Row> current;
+  for (const auto& r : rows)
+    if (order.count(r.id)) current.push_back(r);
+  std::vector<PlotResult> plots = write_plots(s, current, (out / "plots").string());
+  for (const auto& p : plots)
+    if (!p.drawn) std::fprintf(stderr, "warning: plot %s not drawn: %s\n", p.name.c_str(), p.message.c_str());
+  ReportInfo info;
+  info.jobs = a.jobs;
+  info.quick = a.quick;
+  info.references_rendered = refs.rendered();
+  info.references_reused = refs.reused();
+  info.jobs_run = pending.size();
+  info.jobs_total = jobs.size();
+  info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  write_report(out.string(), s, current, report_configs, plots, info);
+  if (!a.quiet)
+    std::fprintf(stderr, "done: %zu row(s), %d reference(s) rendered, %d reused; %s\n", rows.size(), refs.rendered(),
+                 refs.reused(), (out / "report.html").c_str());
+  return 0;
+}
+
+}  // namespace rl::study
