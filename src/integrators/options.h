@@ -17,6 +17,8 @@ enum class PixelFilter { box, triangle, gaussian };
 enum class Tonemap { linear, reinhard, modified_reinhard, aces };
 enum class MisHeuristic { balance, power };
 enum class LightSelection { power, uniform };
+// ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
+enum class ShiftMapping { reconnection, random_replay, hybrid };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
 enum class DebugView { none, confidence, reuse_source, rejected_shifts };
 
@@ -41,6 +43,11 @@ template <> struct EnumNames<DebugView> {
   static constexpr std::array<std::pair<DebugView, const char*>, 4> values{
       {{DebugView::none, "none"}, {DebugView::confidence, "confidence"}, {DebugView::reuse_source, "reuse-source"},
        {DebugView::rejected_shifts, "rejected-shifts"}}};
+};
+template <> struct EnumNames<ShiftMapping> {
+  static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
+      {{ShiftMapping::reconnection, "reconnection"}, {ShiftMapping::random_replay, "random-replay"},
+       {ShiftMapping::hybrid, "hybrid"}}};
 };
 template <> struct EnumNames<LightSelection> {
   static constexpr std::array<std::pair<LightSelection, const char*>, 2> values{
@@ -99,6 +106,28 @@ struct DiOptions {
   float normal_threshold = 25;
 };
 
+// ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR").
+struct PtOptions {
+  ShiftMapping shift = ShiftMapping::hybrid;
+  float roughness_threshold = 0.2f;
+  float distance_threshold = 0.1f;
+  int candidates = 1;
+  int max_depth = 3;
+  bool nee = true;
+  bool bsdf_sampling = true;
+  bool russian_roulette = false;
+  bool temporal = true;
+  int max_history = 20;
+  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
+  int spatial_neighbors = 3;
+  float spatial_radius = 20;
+  int spatial_rounds = 1;
+  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  bool similarity_rejection = true;
+  float depth_threshold = 0.1f;
+  float normal_threshold = 25;
+};
+
 struct OutputOptions {
   Tonemap tonemap = Tonemap::aces;
   float exposure = 0;
@@ -112,6 +141,7 @@ struct Options {
   RenderOptions render;
   PathOptions path;
   DiOptions di;
+  PtOptions pt;
   OutputOptions output;
 };
 
@@ -153,6 +183,24 @@ void visit_options(O& o, V& v) {
   v("di.similarity_rejection", o.di.similarity_rejection, "skip neighbours whose depth or normal differ (thresholds below)");
   v("di.depth_threshold", o.di.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
   v("di.normal_threshold", o.di.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
+  v("pt.shift", o.pt.shift, "shift mapping for path reuse: reconnect at the first secondary vertex, replay the random numbers, or replay until a rough, distant vertex pair and reconnect");
+  v("pt.roughness_threshold", o.pt.roughness_threshold, "hybrid: minimum GGX roughness (sqrt(alpha_x alpha_y); diffuse = 1) of both vertices at a reconnection", Range{0, 1});
+  v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});
+  v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
+  v("pt.max_depth", o.pt.max_depth, "maximum path length in bounces, as path.max_depth", Range{1, 64});
+  v("pt.nee", o.pt.nee, "next-event estimation in the paths (MIS-combined with BSDF sampling)");
+  v("pt.bsdf_sampling", o.pt.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere");
+  v("pt.russian_roulette", o.pt.russian_roulette, "Russian roulette in the paths (its probabilities enter the path pdf; replay must repeat the decisions)");
+  v("pt.temporal", o.pt.temporal, "reuse the previous frame's path reservoirs");
+  v("pt.max_history", o.pt.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
+  v("pt.temporal_mis", o.pt.temporal_mis, "resampling MIS for temporal reuse (generalized-balance = Talbot)");
+  v("pt.spatial_neighbors", o.pt.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
+  v("pt.spatial_radius", o.pt.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
+  v("pt.spatial_rounds", o.pt.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
+  v("pt.spatial_mis", o.pt.spatial_mis, "resampling MIS for spatial reuse");
+  v("pt.similarity_rejection", o.pt.similarity_rejection, "skip neighbours whose depth or normal differ");
+  v("pt.depth_threshold", o.pt.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
+  v("pt.normal_threshold", o.pt.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});

@@ -7,6 +7,7 @@
 
 #include "core/parallel.h"
 #include "core/sampling.h"
+#include "integrators/direction_sampling.h"
 #include "integrators/pixel_sampler.h"
 #include "scene/bsdf.h"
 #include "scene/texture.h"
@@ -17,38 +18,6 @@ namespace {
 
 float mis_weight(MisHeuristic h, float pa, float pb) {
   return h == MisHeuristic::power ? power_heuristic(pa, pb) : balance_heuristic(pa, pb);
-}
-
-// Direction sampling at a vertex: the BSDF's own importance sampling, or (path.bsdf_sampling =
-// false, the thesis' fig. 4.7 toggle) the cosine-weighted hemisphere on wo's side — both sides
-// with probability 1/2 for transmissive materials. Delta BSDFs can only be sampled by the BSDF.
-bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Pcg32& rng, BsdfSample& s) {
-  float u_lobe = rng.next_float();
-  Vec2 u = rng.next_2d();
-  if (use_bsdf || bsdf_is_delta(bsdf)) return bsdf_sample(bsdf, wo, u_lobe, u, s);
-  const bool transmissive = bsdf.type == Material::Type::dielectric;
-  Vec3 wi = sample_cosine_hemisphere(u);
-  float side = wo.z < 0 ? -1.0f : 1.0f;
-  float pdf = cosine_hemisphere_pdf(wi.z);
-  if (transmissive) {
-    pdf *= 0.5f;
-    if (u_lobe < 0.5f) side = -side;
-  }
-  wi.z *= side;
-  if (pdf <= 0) return false;
-  s.wi = wi;
-  s.f = bsdf_eval(bsdf, wo, wi);
-  s.pdf = pdf;
-  s.is_delta = false;
-  return true;
-}
-
-float direction_pdf(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Vec3 wi) {
-  if (use_bsdf) return bsdf_pdf(bsdf, wo, wi);
-  float same_side = (wo.z < 0) == (wi.z < 0) ? 1.0f : 0.0f;
-  float pdf = cosine_hemisphere_pdf(std::fabs(wi.z));
-  if (bsdf.type == Material::Type::dielectric) return 0.5f * pdf;
-  return same_side * pdf;
 }
 
 }  // namespace
@@ -121,7 +90,9 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
 
     // Continue the path.
     BsdfSample bs;
-    if (!sample_direction(bsdf, opt.bsdf_sampling, wo, rng, bs) || bs.pdf <= 0 || is_black(bs.f)) break;
+    const float u_lobe = rng.next_float();
+    const Vec2 u_dir = rng.next_2d();
+    if (!sample_direction(bsdf, opt.bsdf_sampling, wo, u_lobe, u_dir, bs) || bs.pdf <= 0 || is_black(bs.f)) break;
     beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
     specular_bounce = bs.is_delta;
     prev_pdf = bs.pdf;

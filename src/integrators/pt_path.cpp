@@ -1,0 +1,414 @@
+#include "integrators/pt_path.h"
+
+#include <array>
+
+#include "integrators/direction_sampling.h"
+#include "scene/texture.h"
+
+namespace rl {
+
+PathSettings path_settings(const PtOptions& o) {
+  return {o.max_depth, o.nee, o.bsdf_sampling, o.russian_roulette, o.shift, o.roughness_threshold, o.distance_threshold};
+}
+
+namespace {
+
+constexpr int kMaxVertices = 66;
+
+// Per-vertex random streams: vertex d of a walk always uses the same numbers, whatever happened
+// before, so random replay regenerates the base path's decisions vertex by vertex.
+struct VertexRandoms {
+  float nee_select;
+  Vec2 nee_point;
+  float lobe;
+  Vec2 direction;
+  float roulette;
+};
+VertexRandoms vertex_randoms(uint64_t seed, int vertex) {
+  Pcg32 r(mix64(seed ^ (0x9e3779b97f4a7c15ULL * uint64_t(vertex + 1))), uint64_t(vertex) * 2 + 1);
+  VertexRandoms v;
+  v.nee_select = r.next_float();
+  v.nee_point = r.next_2d();
+  v.lobe = r.next_float();
+  v.direction = r.next_2d();
+  v.roulette = r.next_float();
+  return v;
+}
+
+struct Vertex {
+  Vec3 p, ng;
+  Frame frame;
+  Vec3 wo;  // world direction toward the previous vertex
+  Bsdf bsdf;
+  bool delta = false;
+};
+
+Vertex vertex_from_surface(const GSurface& s) { return {s.p, s.ng, s.frame, s.wo, s.bsdf, bsdf_is_delta(s.bsdf)}; }
+
+Vertex vertex_from_hit(const RenderContext& ctx, const SurfaceInteraction& si, Vec3 wo) {
+  const Material& m = ctx.scene.materials[size_t(si.material)];
+  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(ctx.scene, m, si.uv)), false};
+  v.delta = bsdf_is_delta(v.bsdf);
+  return v;
+}
+
+uint32_t emitter_of(const RenderContext& ctx, const SurfaceInteraction& si) {
+  return si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
+}
+
+bool rough(const Vertex& v, float threshold) { return !v.delta && bsdf_roughness(v.bsdf) >= threshold; }
+
+// The last segment of a path: from vertex v to an emitter point (position = direction for the
+// environment). Everything the contribution and the strategies' densities need.
+struct Terminal {
+  Rgb fcos{0};           // f_s(v) |cos| toward the emitter
+  Rgb emission{0};       // Le (point lights: intensity I)
+  float geometry = 0;    // area: |cos_l| / d²; point: 1 / d²; environment: 1
+  float light_pdf = 0;   // density of Lights::sample_point at the emitter point (its own measure)
+  float bsdf_pdf = 0;    // density of the direction sampling at v, in the emitter's measure
+  float measure = 0;     // solid angle at v -> the emitter's measure (area: |cos_l| / d²; env: 1; point: 0)
+  Vec3 wi;               // direction from v to the emitter
+  Ray shadow;
+};
+
+Terminal eval_terminal(const RenderContext& ctx, const PathSettings& ps, const Vertex& v, uint32_t emitter, Vec3 pos, Vec3 normal) {
+  Terminal t;
+  const float eps = ctx.accel.ray_epsilon();
+  float to_measure = 1;
+  switch (ctx.lights.kind(emitter)) {
+    case Lights::Kind::environment:
+      t.wi = pos;
+      t.emission = ctx.lights.environment_radiance(t.wi);
+      t.geometry = 1;
+      t.shadow = spawn_ray(v.p, v.ng, t.wi, eps);
+      break;
+    case Lights::Kind::point: {
+      const Vec3 d = pos - v.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return t;
+      t.wi = d / std::sqrt(d2);
+      t.emission = ctx.lights.point_intensity(emitter);
+      t.geometry = 1 / d2;
+      to_measure = 0;  // BSDF sampling never reaches a point light
+      t.shadow = spawn_ray_to(v.p, v.ng, pos, Vec3(0), eps);
+      break;
+    }
+    default: {
+      const Vec3 d = pos - v.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return t;
+      t.wi = d / std::sqrt(d2);
+      t.emission = ctx.lights.emitted(emitter, normal, -t.wi);
+      t.geometry = std::fabs(dot(normal, t.wi)) / d2;
+      to_measure = t.geometry;
+      t.shadow = spawn_ray_to(v.p, v.ng, pos, normal, eps);
+      break;
+    }
+  }
+  const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(t.wi);
+  t.fcos = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
+  t.light_pdf = ctx.lights.point_pdf(emitter, pos);
+  t.measure = to_measure;
+  t.bsdf_pdf = direction_pdf(v.bsdf, ps.bsdf_sampling, wo_l, wi_l) * to_measure;
+  return t;
+}
+
+// Balance-heuristic weight of the strategy that produced the last vertex (Veach 1997, eq. 9.10);
+// a strategy that is off (no NEE, delta vertex) leaves the other with weight 1.
+float strategy_weight(const PathSettings& ps, bool nee_tag, bool delta, float light_pdf, float bsdf_pdf) {
+  const bool nee_on = ps.nee && !delta;
+  if (!nee_on) return nee_tag ? 0.0f : 1.0f;
+  const float den = light_pdf + bsdf_pdf;
+  if (!(den > 0)) return 0;
+  return (nee_tag ? light_pdf : bsdf_pdf) / den;
+}
+
+// The walk's bookkeeping, enough to describe any of its paths as a PathSample.
+struct Walk {
+  std::array<Vertex, kMaxVertices> v;       // v[1..d]
+  std::array<Rgb, kMaxVertices> fcos;       // f_s|cos| of the continuation at v[i]
+  std::array<float, kMaxVertices> pdf;      // density of the continuation direction at v[i]
+  std::array<Vec3, kMaxVertices> out;       // continuation direction at v[i]
+};
+
+// First reconnectable vertex k of the path ending in an emitter at vertex n (hybrid), 2 for
+// reconnection, 0 for replay.
+int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos, bool terminal_is_direction) {
+  if (ps.shift == ShiftMapping::random_replay) return 0;
+  if (ps.shift == ShiftMapping::reconnection) return 2;
+  for (int k = 2; k <= n; ++k) {
+    const Vertex& prev = w.v[size_t(k - 1)];
+    if (!rough(prev, ps.roughness_threshold)) continue;
+    if (k == n) {  // emitters are diffuse emitters: always reconnectable; the environment is infinitely far
+      if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.distance_threshold) return k;
+      continue;
+    }
+    const Vertex& cur = w.v[size_t(k)];
+    if (rough(cur, ps.roughness_threshold) && length(cur.p - prev.p) >= ps.distance_threshold) return k;
+  }
+  return 0;
+}
+
+// Fills the reconnection / replay description of path (x_1..x_n) of walk w. `last_fcos` is the
+// f_s|cos| of the final segment, `tail` = Le G, `path_pdf` the full path density (own measure),
+// `mis` its strategy weight, `t` the terminal (for k = n - 1).
+void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal, bool is_direction,
+                   Rgb last_fcos, Rgb tail, float path_pdf, float mis, const Terminal& t, PathSample& s) {
+  s.length = n;
+  s.rc = choose_reconnection(ps, w, n, pos, is_direction);
+  const int k = s.rc;
+  if (k == 0) {
+    s.replay_pdf = path_pdf;
+    return;
+  }
+  s.rc_previous = w.v[size_t(k - 1)].p;
+  float replay = 1;
+  for (int i = 1; i <= k - 2; ++i) replay *= w.pdf[size_t(i)];
+  s.replay_pdf = replay;
+  if (k == n) {
+    s.rc_position = pos;
+    s.rc_normal = normal;
+    s.rc_emitter = emitter;
+    return;
+  }
+  const Vertex& xk = w.v[size_t(k)];
+  s.rc_position = xk.p;
+  s.rc_normal = xk.ng;
+  s.rc_bsdf = xk.bsdf;
+  s.rc_frame = xk.frame;
+  s.rc_out = k == n - 1 ? t.wi : w.out[size_t(k)];
+  Rgb suffix = tail;
+  for (int i = k + 1; i <= n - 1; ++i) suffix *= (i == n - 1 ? last_fcos : w.fcos[size_t(i)]);
+  s.rc_suffix = suffix;
+  s.rc_mis = mis;
+  s.rc_tail_light_pdf = t.light_pdf;
+  s.rc_tail_measure = t.measure;
+}
+
+}  // namespace
+
+PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
+                                     int candidates) {
+  PathReservoir r;
+  r.confidence = float(candidates);
+  if (!s.valid || ctx.lights.empty()) return r;
+  const int max_depth = std::min(ps.max_depth, kMaxVertices - 2);
+  Pcg32 stream_rng(mix64(seed ^ 0x5bd1e995ULL), 7);
+  Walk w;
+  for (int c = 0; c < candidates; ++c) {
+    const uint64_t walk_seed = hash_combine(seed, uint64_t(c));
+    w.v[1] = vertex_from_surface(s);
+    Rgb beta(1);
+    float pdf = 1;
+    // Streams one path of the walk (length n, ending at an emitter) into the reservoir.
+    auto offer = [&](int n, bool nee_tag, uint32_t emitter, Vec3 pos, Vec3 normal, bool is_direction, Rgb last_fcos,
+                     Rgb tail, float path_pdf, float mis, const Terminal& t) {
+      const Rgb contribution = beta * last_fcos * tail * mis;
+      const float target = luminance(contribution);
+      if (!(target > 0) || !(path_pdf > 0)) {
+        (void)stream_rng.next_float();
+        return;
+      }
+      if (restir::stream(r, PathSample{}, target, target / path_pdf / float(candidates), stream_rng.next_float())) {
+        PathSample& x = r.sample;
+        x.seed = walk_seed;
+        x.nee = nee_tag;
+        x.contribution = contribution;
+        describe_path(ps, w, n, emitter, pos, normal, is_direction, last_fcos, tail, path_pdf, mis, t, x);
+      }
+    };
+    for (int d = 1; d <= max_depth; ++d) {
+      const Vertex& v = w.v[size_t(d)];
+      const VertexRandoms u = vertex_randoms(walk_seed, d);
+      // Next-event estimation: path x_1..x_d + light point.
+      if (ps.nee && !v.delta) {
+        EmitterPoint ep;
+        if (ctx.lights.sample_point(u.nee_select, u.nee_point, ep)) {
+          const bool is_dir = ctx.lights.kind(ep.emitter) == Lights::Kind::environment;
+          Terminal t = eval_terminal(ctx, ps, v, ep.emitter, ep.position, ep.normal);
+          if (!is_black(t.fcos * t.emission) && !ctx.accel.occluded(t.shadow)) {
+            const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+            offer(d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry, pdf * t.light_pdf,
+                  mis, t);
+          }
+        }
+      }
+      // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
+      BsdfSample bs;
+      const Vec3 wo_l = v.frame.to_local(v.wo);
+      if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) break;
+      const Rgb fcos = bs.f * std::fabs(bs.wi.z);
+      const Vec3 wi = v.frame.to_world(bs.wi);
+      w.fcos[size_t(d)] = fcos;
+      w.pdf[size_t(d)] = bs.pdf;
+      w.out[size_t(d)] = wi;
+      Hit hit;
+      const Ray ray = spawn_ray(v.p, v.ng, wi, ctx.accel.ray_epsilon());
+      if (!ctx.accel.intersect(ray, hit)) {
+        if (ctx.lights.has_environment()) {
+          const uint32_t e = ctx.lights.environment_emitter();
+          Terminal t;
+          t.wi = wi;
+          t.light_pdf = ctx.lights.point_pdf(e, wi);
+          t.measure = 1;
+          t.bsdf_pdf = bs.is_delta ? 0.0f : bs.pdf;
+          const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+          offer(d + 1, false, e, wi, Vec3(0), true, fcos, ctx.lights.environment_radiance(wi), pdf * bs.pdf, mis, t);
+        }
+        break;
+      }
+      const SurfaceInteraction si = ctx.accel.interaction(ray, hit);
+      const uint32_t e = emitter_of(ctx, si);
+      if (e != kNoEmitter) {
+        const Rgb le = ctx.lights.emitted(e, si.ng, -wi);
+        if (!is_black(le)) {
+          Terminal t;
+          t.wi = wi;
+          t.measure = std::fabs(dot(si.ng, wi)) / (hit.t * hit.t);
+          t.light_pdf = ctx.lights.point_pdf(e, si.p);
+          t.bsdf_pdf = bs.is_delta ? 0.0f : bs.pdf * t.measure;
+          const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+          offer(d + 1, false, e, si.p, si.ng, false, fcos, le * t.measure, pdf * bs.pdf * t.measure, mis, t);
+        }
+      }
+      beta *= fcos;
+      pdf *= bs.pdf;
+      if (ps.russian_roulette && d >= 2) {
+        const float q = std::min(1.0f, max_component(beta) / pdf);
+        if (!(u.roulette < q)) break;
+        pdf *= q;
+      }
+      w.v[size_t(d + 1)] = vertex_from_hit(ctx, si, -wi);
+    }
+  }
+  restir::finalize(r);
+  return r;
+}
+
+bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
+                PathSample& out, float& jacobian) {
+  if (!y1.valid || base.length < 2 || ctx.lights.empty()) return false;
+  const int n = base.length, k = base.rc;
+  const float eps = ctx.accel.ray_epsilon();
+  const bool hybrid = ps.shift == ShiftMapping::hybrid;
+  Vertex v = vertex_from_surface(y1);
+  Rgb beta(1);
+  float pdf = 1;
+  // Replay the base path's directions at y_1 .. y_{last-1} with its random numbers.
+  const int last = k > 0 ? k - 1 : n - 1;  // the vertex that connects to x_k / samples the last vertex
+  for (int d = 1; d < last; ++d) {
+    const VertexRandoms u = vertex_randoms(base.seed, d);
+    BsdfSample bs;
+    const Vec3 wo_l = v.frame.to_local(v.wo);
+    if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return false;
+    const Vec3 wi = v.frame.to_world(bs.wi);
+    Hit hit;
+    const Ray ray = spawn_ray(v.p, v.ng, wi, eps);
+    if (!ctx.accel.intersect(ray, hit)) return false;
+    const Vertex next = vertex_from_hit(ctx, ctx.accel.interaction(ray, hit), -wi);
+    // The offset must not become reconnectable before x_k, or the inverse shift would differ.
+    if (hybrid && k > 0 && rough(v, ps.roughness_threshold) && rough(next, ps.roughness_threshold) &&
+        length(next.p - v.p) >= ps.distance_threshold)
+      return false;
+    beta *= bs.f * std::fabs(bs.wi.z);
+    pdf *= bs.pdf;
+    if (ps.russian_roulette && d >= 2) {
+      const float q = std::min(1.0f, max_component(beta) / pdf);
+      if (!(u.roulette < q)) return false;
+      pdf *= q;
+    }
+    v = next;
+  }
+  out = base;
+  if (k == 0) {
+    // Pure replay: the last vertex by the base path's strategy, with its random numbers.
+    const VertexRandoms u = vertex_randoms(base.seed, last);
+    Rgb f;
+    float p, mis;
+    if (base.nee) {
+      EmitterPoint ep;
+      if (v.delta || !ps.nee || !ctx.lights.sample_point(u.nee_select, u.nee_point, ep)) return false;
+      const Terminal t = eval_terminal(ctx, ps, v, ep.emitter, ep.position, ep.normal);
+      if (is_black(t.fcos * t.emission) || ctx.accel.occluded(t.shadow)) return false;
+      f = beta * t.fcos * t.emission * t.geometry;
+      p = pdf * t.light_pdf;
+      mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+    } else {
+      BsdfSample bs;
+      const Vec3 wo_l = v.frame.to_local(v.wo);
+      if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0)) return false;
+      const Vec3 wi = v.frame.to_world(bs.wi);
+      const Rgb fcos = bs.f * std::fabs(bs.wi.z);
+      Hit hit;
+      const Ray ray = spawn_ray(v.p, v.ng, wi, eps);
+      float light_pdf, measure;
+      Rgb le;
+      if (!ctx.accel.intersect(ray, hit)) {
+        if (!ctx.lights.has_environment()) return false;
+        le = ctx.lights.environment_radiance(wi);
+        light_pdf = ctx.lights.point_pdf(ctx.lights.environment_emitter(), wi);
+        measure = 1;
+      } else {
+        const SurfaceInteraction si = ctx.accel.interaction(ray, hit);
+        const uint32_t e = emitter_of(ctx, si);
+        if (e == kNoEmitter) return false;
+        le = ctx.lights.emitted(e, si.ng, -wi);
+        measure = std::fabs(dot(si.ng, wi)) / (hit.t * hit.t);
+        light_pdf = ctx.lights.point_pdf(e, si.p);
+      }
+      f = beta * fcos * le * measure;
+      p = pdf * bs.pdf * measure;
+      mis = strategy_weight(ps, false, v.delta, light_pdf, bs.is_delta ? 0.0f : bs.pdf * measure);
+    }
+    out.contribution = f * mis;
+    out.replay_pdf = p;
+    jacobian = p > 0 ? base.replay_pdf / p : 0.0f;
+    return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+  }
+
+  // Reconnect y_{k-1} = v to x_k.
+  if (v.delta || (hybrid && !rough(v, ps.roughness_threshold))) return false;
+  float rc_jacobian = 1;
+  Rgb f;
+  float mis;
+  if (k == n) {
+    const Terminal t = eval_terminal(ctx, ps, v, base.rc_emitter, base.rc_position, base.rc_normal);
+    const bool is_dir = ctx.lights.kind(base.rc_emitter) == Lights::Kind::environment;
+    if (hybrid && !is_dir && length(base.rc_position - v.p) < ps.distance_threshold) return false;
+    if (is_black(t.fcos * t.emission) || ctx.accel.occluded(t.shadow)) return false;
+    f = beta * t.fcos * t.emission * t.geometry;
+    mis = strategy_weight(ps, base.nee, v.delta, t.light_pdf, t.bsdf_pdf);
+  } else {
+    const Vec3 d = base.rc_position - v.p;
+    const float d2 = length_squared(d);
+    if (!(d2 > 0)) return false;
+    if (hybrid && std::sqrt(d2) < ps.distance_threshold) return false;
+    const Vec3 wi = d / std::sqrt(d2);
+    if (ctx.accel.occluded(spawn_ray_to(v.p, v.ng, base.rc_position, base.rc_normal, eps))) return false;
+    const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(wi);
+    const Rgb fcos_v = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
+    const Vec3 k_in = base.rc_frame.to_local(-wi), k_out = base.rc_frame.to_local(base.rc_out);
+    const Rgb fcos_k = bsdf_eval(base.rc_bsdf, k_in, k_out) * std::fabs(k_out.z);
+    f = beta * fcos_v * fcos_k * base.rc_suffix;
+    if (k == n - 1) {  // x_k is the vertex before the emitter: its BSDF density enters m_t
+      const float bsdf_pdf = direction_pdf(base.rc_bsdf, ps.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
+      mis = strategy_weight(ps, base.nee, bsdf_is_delta(base.rc_bsdf), base.rc_tail_light_pdf, bsdf_pdf);
+    } else {
+      mis = base.rc_mis;
+    }
+    // Solid angle at x_{k-1} -> at y_{k-1} with x_k fixed (ReSTIR GI eq. 11).
+    const Vec3 to_base_prev = base.rc_previous - base.rc_position;
+    const float base_d2 = length_squared(to_base_prev);
+    const float cos_base = std::fabs(dot(base.rc_normal, to_base_prev)) / std::sqrt(base_d2);
+    const float cos_offset = std::fabs(dot(base.rc_normal, -wi));
+    if (!(cos_base > 0) || !(cos_offset > 0)) return false;
+    rc_jacobian = (cos_offset / cos_base) * (base_d2 / d2);
+  }
+  out.contribution = f * mis;
+  out.replay_pdf = pdf;
+  out.rc_previous = v.p;
+  jacobian = base.replay_pdf / pdf * rc_jacobian;
+  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+}
+
+}  // namespace rl

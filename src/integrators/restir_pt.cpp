@@ -1,0 +1,110 @@
+// ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR"):
+// per pixel a reservoir of full paths from the primary hit, reused from the previous frame and
+// from neighbouring pixels through a shift mapping (reconnection, random replay or hybrid; see
+// pt_path.h), then shaded with one path. The reference is the path tracer with path.max_depth =
+// pt.max_depth (emission seen directly at the primary hit is added as is).
+#include "integrators/pt_path.h"
+#include "integrators/reuse_passes.h"
+
+namespace rl {
+
+namespace {
+
+// The bridge of mis.h for paths: shifts evaluate the path at the other pixel's primary hit.
+struct PtBridge {
+  const RenderContext* ctx;
+  const PathSettings* ps;
+  const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
+  bool shift_to_canonical(int, const PathSample& y, PathSample& x, float& jacobian) const {
+    return shift_path(*ctx, *ps, y, *surfaces[0], x, jacobian);
+  }
+  float target_from(int i, const PathSample& x) const {
+    if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
+    PathSample y;
+    float jacobian;
+    if (!shift_path(*ctx, *ps, x, *surfaces[i], y, jacobian)) return 0;
+    return luminance(y.contribution) * jacobian;
+  }
+};
+
+ReuseParams reuse_params(const PtOptions& pt) {
+  return {pt.temporal,        pt.max_history,       pt.temporal_mis,    pt.spatial_neighbors,
+          pt.spatial_radius,  pt.spatial_rounds,    pt.spatial_mis,     pt.similarity_rejection,
+          pt.depth_threshold, pt.normal_threshold};
+}
+
+class RestirPt final : public Integrator {
+ public:
+  explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options.pt)) {}
+
+  void render_frame(const FrameInfo& frame, Image& out) override {
+    const int spp = ctx_.options.render.spp;
+    if (int(chains_.size()) != spp) chains_.assign(size_t(spp), Chain{});
+    std::vector<Rgb> sum(out.size(), Rgb(0));
+    for (int s = 0; s < spp; ++s) render_chain(frame, s, chains_[size_t(s)], sum);
+    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+  }
+
+ private:
+  struct Chain {
+    GBuffer gbuffer, previous_gbuffer;
+    std::vector<PathReservoir> reservoirs, previous;
+    bool has_history = false;
+    ReuseDebug debug;
+  };
+
+  void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
+    const Options& o = ctx_.options;
+    const ReuseParams rp = reuse_params(o.pt);
+    const int w = frame.camera->width(), h = frame.camera->height();
+    const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
+    const uint64_t seed = o.render.seed;
+    build_gbuffer(ctx_, *frame.camera, frame.index, s, c.gbuffer);
+    const GBuffer& g = c.gbuffer;
+    c.reservoirs.assign(size_t(w) * size_t(h), PathReservoir{});
+    c.debug.reset(c.reservoirs.size());
+    auto make_bridge = [&](const GSurface* const* surfaces, int) { return PtBridge{&ctx_, &settings_, surfaces}; };
+
+    // 1. Initial paths.
+    parallel_for_pixels(w, h, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * w + x);
+      const uint64_t path_seed = hash_combine(hash_combine(hash_combine(seed, p), f), chain);
+      c.reservoirs[p] = initial_path_reservoir(ctx_, settings_, g.at(x, y), path_seed, o.pt.candidates);
+    }, frame.progress);
+
+    // 2. Temporal reuse, 3. spatial reuse.
+    const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
+    if (rp.temporal && c.has_history && c.previous_gbuffer.width == w && c.previous_gbuffer.height == h)
+      temporal_pass(rp, g, c.previous_gbuffer, prev_cam, c.reservoirs, c.previous, make_bridge, f, seed, chain, c.debug);
+    spatial_passes(rp, g, c.reservoirs, make_bridge, f, seed, chain, c.debug);
+
+    // 4. Shading: emission at the primary hit + f(Y) W.
+    parallel_for_pixels(w, h, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * w + x);
+      const GSurface& sf = g.at(x, y);
+      Rgb dbg;
+      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg)) {
+        sum[p] += dbg;
+        return;
+      }
+      Rgb L = sf.valid ? sf.emitted : sf.background;
+      const PathReservoir& r = c.reservoirs[p];
+      if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
+      sum[p] += L;
+    });
+
+    c.previous.swap(c.reservoirs);
+    std::swap(c.previous_gbuffer, c.gbuffer);
+    c.has_history = true;
+  }
+
+  RenderContext ctx_;
+  PathSettings settings_;
+  std::vector<Chain> chains_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) { return std::make_unique<RestirPt>(ctx); }
+
+}  // namespace rl
