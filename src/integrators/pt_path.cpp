@@ -3,6 +3,7 @@
 #include <array>
 
 #include "integrators/direction_sampling.h"
+#include "restir/shift.h"
 #include "scene/texture.h"
 
 namespace rl {
@@ -123,6 +124,49 @@ float strategy_weight(const PathSettings& ps, bool nee_tag, bool delta, float li
   return (nee_tag ? light_pdf : bsdf_pdf) / den;
 }
 
+// One direction-sampling step from v with the vertex's random numbers: sample, trace, and express
+// the segment by the vertex positions, so that a path's value depends on its vertices only (a shift
+// that reconnects to a vertex recomputes exactly the same terms as the walk that found it).
+struct Step {
+  bool ok = false;
+  bool hit = false;       // false: escaped (direction only)
+  bool delta = false;
+  Vec3 dir;               // unit direction of the segment
+  Rgb fcos{0};            // f_s(v) |cos| for dir
+  float pdf = 0;          // density of sample_direction at v for dir (solid angle)
+  float distance = 0;
+  SurfaceInteraction si;
+};
+
+Step take_step(const RenderContext& ctx, const PathSettings& ps, const Vertex& v, const VertexRandoms& u) {
+  Step st;
+  BsdfSample bs;
+  const Vec3 wo_l = v.frame.to_local(v.wo);
+  if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return st;
+  const Vec3 wi = v.frame.to_world(bs.wi);
+  st.delta = bs.is_delta;
+  st.dir = wi;
+  st.fcos = bs.f * std::fabs(bs.wi.z);
+  st.pdf = bs.pdf;
+  Hit hit;
+  const Ray ray = spawn_ray(v.p, v.ng, wi, ctx.accel.ray_epsilon());
+  st.ok = true;
+  if (!ctx.accel.intersect(ray, hit)) return st;
+  st.hit = true;
+  st.si = ctx.accel.interaction(ray, hit);
+  const Vec3 d = st.si.p - v.p;
+  st.distance = length(d);
+  if (!(st.distance > 0)) return Step{};
+  if (!bs.is_delta) {
+    st.dir = d / st.distance;
+    const Vec3 dl = v.frame.to_local(st.dir);
+    st.fcos = bsdf_eval(v.bsdf, wo_l, dl) * std::fabs(dl.z);
+    st.pdf = direction_pdf(v.bsdf, ps.bsdf_sampling, wo_l, dl);
+    if (!(st.pdf > 0) || is_black(st.fcos)) return Step{};
+  }
+  return st;
+}
+
 // The walk's bookkeeping, enough to describe any of its paths as a PathSample.
 struct Walk {
   std::array<Vertex, kMaxVertices> v;       // v[1..d]
@@ -234,51 +278,47 @@ PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSetting
         }
       }
       // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
-      BsdfSample bs;
-      const Vec3 wo_l = v.frame.to_local(v.wo);
-      if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) break;
-      const Rgb fcos = bs.f * std::fabs(bs.wi.z);
-      const Vec3 wi = v.frame.to_world(bs.wi);
+      const Step st = take_step(ctx, ps, v, u);
+      if (!st.ok) break;
+      const Rgb fcos = st.fcos;
       w.fcos[size_t(d)] = fcos;
-      w.pdf[size_t(d)] = bs.pdf;
-      w.out[size_t(d)] = wi;
-      Hit hit;
-      const Ray ray = spawn_ray(v.p, v.ng, wi, ctx.accel.ray_epsilon());
-      if (!ctx.accel.intersect(ray, hit)) {
+      w.pdf[size_t(d)] = st.pdf;
+      w.out[size_t(d)] = st.dir;
+      if (!st.hit) {
         if (ctx.lights.has_environment()) {
           const uint32_t e = ctx.lights.environment_emitter();
           Terminal t;
-          t.wi = wi;
-          t.light_pdf = ctx.lights.point_pdf(e, wi);
+          t.wi = st.dir;
+          t.light_pdf = ctx.lights.point_pdf(e, st.dir);
           t.measure = 1;
-          t.bsdf_pdf = bs.is_delta ? 0.0f : bs.pdf;
+          t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
           const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(d + 1, false, e, wi, Vec3(0), true, fcos, ctx.lights.environment_radiance(wi), pdf * bs.pdf, mis, t);
+          offer(d + 1, false, e, st.dir, Vec3(0), true, fcos, ctx.lights.environment_radiance(st.dir), pdf * st.pdf, mis, t);
         }
         break;
       }
-      const SurfaceInteraction si = ctx.accel.interaction(ray, hit);
+      const SurfaceInteraction& si = st.si;
       const uint32_t e = emitter_of(ctx, si);
       if (e != kNoEmitter) {
-        const Rgb le = ctx.lights.emitted(e, si.ng, -wi);
+        const Rgb le = ctx.lights.emitted(e, si.ng, -st.dir);
         if (!is_black(le)) {
           Terminal t;
-          t.wi = wi;
-          t.measure = std::fabs(dot(si.ng, wi)) / (hit.t * hit.t);
+          t.wi = st.dir;
+          t.measure = std::fabs(dot(si.ng, st.dir)) / (st.distance * st.distance);
           t.light_pdf = ctx.lights.point_pdf(e, si.p);
-          t.bsdf_pdf = bs.is_delta ? 0.0f : bs.pdf * t.measure;
+          t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
           const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(d + 1, false, e, si.p, si.ng, false, fcos, le * t.measure, pdf * bs.pdf * t.measure, mis, t);
+          offer(d + 1, false, e, si.p, si.ng, false, fcos, le * t.measure, pdf * st.pdf * t.measure, mis, t);
         }
       }
       beta *= fcos;
-      pdf *= bs.pdf;
+      pdf *= st.pdf;
       if (ps.russian_roulette && d >= 2) {
         const float q = std::min(1.0f, max_component(beta) / pdf);
         if (!(u.roulette < q)) break;
         pdf *= q;
       }
-      w.v[size_t(d + 1)] = vertex_from_hit(ctx, si, -wi);
+      w.v[size_t(d + 1)] = vertex_from_hit(ctx, si, -st.dir);
     }
   }
   restir::finalize(r);
@@ -298,20 +338,15 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
   const int last = k > 0 ? k - 1 : n - 1;  // the vertex that connects to x_k / samples the last vertex
   for (int d = 1; d < last; ++d) {
     const VertexRandoms u = vertex_randoms(base.seed, d);
-    BsdfSample bs;
-    const Vec3 wo_l = v.frame.to_local(v.wo);
-    if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return false;
-    const Vec3 wi = v.frame.to_world(bs.wi);
-    Hit hit;
-    const Ray ray = spawn_ray(v.p, v.ng, wi, eps);
-    if (!ctx.accel.intersect(ray, hit)) return false;
-    const Vertex next = vertex_from_hit(ctx, ctx.accel.interaction(ray, hit), -wi);
+    const Step st = take_step(ctx, ps, v, u);
+    if (!st.ok || !st.hit) return false;
+    const Vertex next = vertex_from_hit(ctx, st.si, -st.dir);
     // The offset must not become reconnectable before x_k, or the inverse shift would differ.
     if (hybrid && k > 0 && rough(v, ps.roughness_threshold) && rough(next, ps.roughness_threshold) &&
-        length(next.p - v.p) >= ps.distance_threshold)
+        st.distance >= ps.distance_threshold)
       return false;
-    beta *= bs.f * std::fabs(bs.wi.z);
-    pdf *= bs.pdf;
+    beta *= st.fcos;
+    pdf *= st.pdf;
     if (ps.russian_roulette && d >= 2) {
       const float q = std::min(1.0f, max_component(beta) / pdf);
       if (!(u.roulette < q)) return false;
@@ -334,31 +369,25 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
       p = pdf * t.light_pdf;
       mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
     } else {
-      BsdfSample bs;
-      const Vec3 wo_l = v.frame.to_local(v.wo);
-      if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0)) return false;
-      const Vec3 wi = v.frame.to_world(bs.wi);
-      const Rgb fcos = bs.f * std::fabs(bs.wi.z);
-      Hit hit;
-      const Ray ray = spawn_ray(v.p, v.ng, wi, eps);
+      const Step st = take_step(ctx, ps, v, u);
+      if (!st.ok) return false;
       float light_pdf, measure;
       Rgb le;
-      if (!ctx.accel.intersect(ray, hit)) {
+      if (!st.hit) {
         if (!ctx.lights.has_environment()) return false;
-        le = ctx.lights.environment_radiance(wi);
-        light_pdf = ctx.lights.point_pdf(ctx.lights.environment_emitter(), wi);
+        le = ctx.lights.environment_radiance(st.dir);
+        light_pdf = ctx.lights.point_pdf(ctx.lights.environment_emitter(), st.dir);
         measure = 1;
       } else {
-        const SurfaceInteraction si = ctx.accel.interaction(ray, hit);
-        const uint32_t e = emitter_of(ctx, si);
+        const uint32_t e = emitter_of(ctx, st.si);
         if (e == kNoEmitter) return false;
-        le = ctx.lights.emitted(e, si.ng, -wi);
-        measure = std::fabs(dot(si.ng, wi)) / (hit.t * hit.t);
-        light_pdf = ctx.lights.point_pdf(e, si.p);
+        le = ctx.lights.emitted(e, st.si.ng, -st.dir);
+        measure = std::fabs(dot(st.si.ng, st.dir)) / (st.distance * st.distance);
+        light_pdf = ctx.lights.point_pdf(e, st.si.p);
       }
-      f = beta * fcos * le * measure;
-      p = pdf * bs.pdf * measure;
-      mis = strategy_weight(ps, false, v.delta, light_pdf, bs.is_delta ? 0.0f : bs.pdf * measure);
+      f = beta * st.fcos * le * measure;
+      p = pdf * st.pdf * measure;
+      mis = strategy_weight(ps, false, v.delta, light_pdf, st.delta ? 0.0f : st.pdf * measure);
     }
     out.contribution = f * mis;
     out.replay_pdf = p;
@@ -397,12 +426,8 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
       mis = base.rc_mis;
     }
     // Solid angle at x_{k-1} -> at y_{k-1} with x_k fixed (ReSTIR GI eq. 11).
-    const Vec3 to_base_prev = base.rc_previous - base.rc_position;
-    const float base_d2 = length_squared(to_base_prev);
-    const float cos_base = std::fabs(dot(base.rc_normal, to_base_prev)) / std::sqrt(base_d2);
-    const float cos_offset = std::fabs(dot(base.rc_normal, -wi));
-    if (!(cos_base > 0) || !(cos_offset > 0)) return false;
-    rc_jacobian = (cos_offset / cos_base) * (base_d2 / d2);
+    rc_jacobian = restir::reconnection_jacobian(base.rc_previous, v.p, base.rc_position, base.rc_normal);
+    if (!(rc_jacobian > 0)) return false;
   }
   out.contribution = f * mis;
   out.replay_pdf = pdf;

@@ -1,0 +1,23 @@
+// Geometry of shift mappings, as pure functions (no scene types).
+#pragma once
+#include "core/math.h"
+
+namespace rl::restir {
+
+// Jacobian |∂ω_y/∂ω_x| of the reconnection shift: the base path leaves x_prev in direction ω_x and
+// reaches x_k (normal n_k); the offset path leaves y_prev toward the same x_k in direction ω_y.
+// Both directions are measured in solid angle at their origins (Ouyang et al. 2021, ReSTIR GI
+// eq. 11; Lin et al. 2022 eq. 52):
+//   |cos φ_y| / |cos φ_x| · |x_k − x_prev|² / |x_k − y_prev|²,
+// φ the angles at x_k between n_k and the segments to y_prev and x_prev. 0 when degenerate.
+RESTIR_HD inline float reconnection_jacobian(Vec3 x_prev, Vec3 y_prev, Vec3 x_k, Vec3 n_k) {
+  const Vec3 to_x = x_prev - x_k, to_y = y_prev - x_k;
+  const float dx2 = length_squared(to_x), dy2 = length_squared(to_y);
+  if (!(dx2 > 0) || !(dy2 > 0)) return 0;
+  const float cos_x = std::fabs(dot(n_k, to_x)) / std::sqrt(dx2);
+  const float cos_y = std::fabs(dot(n_k, to_y)) / std::sqrt(dy2);
+  if (!(cos_x > 0)) return 0;
+  return (cos_y / cos_x) * (dx2 / dy2);
+}
+
+}  // namespace rl::restir

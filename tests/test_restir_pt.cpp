@@ -1,0 +1,162 @@
+#include <doctest/doctest.h>
+
+#include "convergence.h"
+#include "integrators/pt_path.h"
+#include "restir/shift.h"
+#include "scene/accel.h"
+
+using namespace rl;
+using namespace rl::test;
+
+namespace {
+
+// A scene with its acceleration structure, lights and one frame's primary hits.
+struct Fixture {
+  Scene scene;
+  Options options;
+  std::unique_ptr<Accel> accel;
+  std::unique_ptr<Lights> lights;
+  std::unique_ptr<RenderContext> ctx;
+  GBuffer g;
+  explicit Fixture(const std::string& path, int size = 24) : scene(load_scene(path)) {
+    options = options_for(scene, {"render.sample_pattern=center"});
+    options.film.width = options.film.height = size;
+    accel = std::make_unique<Accel>(scene);
+    lights = std::make_unique<Lights>(scene, LightSelection::power);
+    ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
+    PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
+    build_gbuffer(*ctx, cam, 0, 0, g);
+  }
+};
+
+bool close_rgb(Rgb a, Rgb b, float rel) {
+  for (int c = 0; c < 3; ++c)
+    if (std::fabs(a[c] - b[c]) > rel * std::max({std::fabs(a[c]), std::fabs(b[c]), 1e-6f})) return false;
+  return true;
+}
+
+// Shifts paths between random pixel pairs and back; returns how many round trips were checked.
+int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
+  PathSettings ps;
+  ps.shift = shift;
+  ps.max_depth = max_depth;
+  Pcg32 rng(42);
+  int checked = 0, identity = 0;
+  const int size = fx.g.width;
+  for (int it = 0; it < 3000 && checked < 200; ++it) {
+    const GSurface& a = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    const GSurface& b = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    if (!a.valid || !b.valid) continue;
+    PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
+    if (!r.has_sample()) continue;
+    const PathSample& base = r.sample;
+    CHECK(luminance(base.contribution) == doctest::Approx(r.target));
+    // Onto its own pixel every shift is the identity with jacobian 1.
+    PathSample same;
+    float j_same = 0;
+    if (shift_path(*fx.ctx, ps, base, a, same, j_same)) {
+      ++identity;
+      CHECK(j_same == doctest::Approx(1).epsilon(1e-3));
+      CHECK(close_rgb(same.contribution, base.contribution, 2e-3f));
+    }
+    PathSample there, back;
+    float j1 = 0, j2 = 0;
+    if (!shift_path(*fx.ctx, ps, base, b, there, j1)) continue;
+    REQUIRE(shift_path(*fx.ctx, ps, there, a, back, j2));  // invertible where defined
+    ++checked;
+    CHECK(j1 * j2 == doctest::Approx(1).epsilon(2e-3));
+    CHECK(close_rgb(back.contribution, base.contribution, 5e-3f));
+    CHECK(back.replay_pdf == doctest::Approx(base.replay_pdf).epsilon(5e-3));
+    CHECK(length(back.rc_previous - base.rc_previous) < 1e-3f * std::max(1.0f, length(base.rc_previous)));
+  }
+  CHECK(identity > 0);
+  return checked;
+}
+
+}  // namespace
+
+TEST_SUITE("restir_pt") {
+  TEST_CASE("reconnection jacobian matches finite differences of the direction map") {
+    Pcg32 rng(3);
+    for (int t = 0; t < 50; ++t) {
+      const Vec3 xk{rng.next_float(), rng.next_float(), rng.next_float()};
+      const Vec3 nk = normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 1});
+      const Vec3 x_prev = xk + normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 1}) * (1 + 2 * rng.next_float());
+      const Vec3 y_prev = xk + normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 1}) * (1 + 2 * rng.next_float());
+      // ω_x -> hit on the plane (x_k, n_k) -> ω_y; solid-angle ratio of a small patch (double precision).
+      auto hit = [&](Vec3 d) {
+        double t_hit = double(dot(xk - x_prev, nk)) / double(dot(d, nk));
+        return x_prev + d * float(t_hit);
+      };
+      const Vec3 w0 = normalize(xk - x_prev);
+      const Frame f = Frame::from_normal(w0);
+      const float h = 1e-3f;
+      auto omega_y = [&](float a, float b) { return normalize(hit(normalize(w0 + f.s * a + f.t * b)) - y_prev); };
+      const Vec3 dya = (omega_y(h, 0) - omega_y(-h, 0)) / (2 * h), dyb = (omega_y(0, h) - omega_y(0, -h)) / (2 * h);
+      const double fd = double(length(cross(dya, dyb)));  // d(solid angle) of ω_x per unit (a, b) is 1 at the centre
+      const double analytic = restir::reconnection_jacobian(x_prev, y_prev, xk, nk);
+      CAPTURE(t);
+      CHECK(fd == doctest::Approx(analytic).epsilon(0.01));
+    }
+  }
+
+  TEST_CASE("shifts: identity on the own pixel, invertible with reciprocal jacobians (rough Cornell box)") {
+    Fixture fx(shared_scene("cornell-box/scene-v4.pbrt"));
+    for (ShiftMapping s : {ShiftMapping::reconnection, ShiftMapping::random_replay, ShiftMapping::hybrid}) {
+      CAPTURE(int(s));
+      CHECK(check_round_trips(fx, s, 3) > 50);
+    }
+  }
+
+  TEST_CASE("shifts: identity and invertibility on glossy surfaces (Veach MIS, teapots)") {
+    for (const std::string& path : {shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")}) {
+      Fixture fx(path);
+      for (ShiftMapping s : {ShiftMapping::reconnection, ShiftMapping::random_replay, ShiftMapping::hybrid}) {
+        CAPTURE(path);
+        CAPTURE(int(s));
+        CHECK(check_round_trips(fx, s, 3) > 20);
+      }
+    }
+  }
+}
+
+TEST_SUITE("slow") {
+  TEST_CASE("ReSTIR PT converges to the path tracer for every shift (rough and glossy scenes)") {
+    struct Case {
+      std::string scene;
+      const char* shift;
+      const char* mis;
+    };
+    const Case cases[] = {
+        {own_scene("cornell-box.pbrt"), "reconnection", "pairwise"},
+        {own_scene("cornell-box.pbrt"), "random-replay", "generalized-balance"},
+        {own_scene("cornell-box.pbrt"), "hybrid", "pairwise"},
+        {shared_scene("veach-mis/scene-v4.pbrt"), "reconnection", "generalized-balance"},
+        {shared_scene("veach-mis/scene-v4.pbrt"), "random-replay", "pairwise"},
+        {shared_scene("veach-mis/scene-v4.pbrt"), "hybrid", "generalized-balance"},
+        {shared_scene("veach-mis/scene-v4.pbrt"), "hybrid", "pairwise"},
+    };
+    for (const auto& c : cases) {
+      Scene scene = load_scene(c.scene);
+      Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=3", "render.sample_pattern=center",
+                                      "pt.max_depth=3"});
+      o.film.width = o.film.height = 20;
+      set_option(o, "pt.shift", c.shift);
+      set_option(o, "pt.spatial_mis", c.mis);
+      Options ref = o;
+      ref.integrator = "pt";
+      ref.path.max_depth = 3;
+      ref.render.spp = 2048;
+      ref.render.frames = 1;
+      BlockStats st = compare_to_reference(scene, o, ref, 20, 4, 4.5);
+      CAPTURE(c.scene);
+      CAPTURE(c.shift);
+      CAPTURE(c.mis);
+      CAPTURE(st.worst_z);
+      CAPTURE(st.image_mean);
+      CAPTURE(st.reference_mean);
+      CHECK(st.outliers == 0);
+      CHECK(std::fabs(st.relative_bias()) < 0.01 + 3 * st.image_se / st.reference_mean);
+    }
+  }
+}
