@@ -1,0 +1,436 @@
+// The study harness: study-file parsing and sweep expansion, the reference cache, resumability of
+// an interrupted study (child process killed with SIGINT / SIGKILL), outputs (CSV, plots, report),
+// and (suite "slow") every built-in study in its --quick form.
+#include <doctest/doctest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "study/images.h"
+#include "study/plots.h"
+#include "study/results.h"
+#include "study/runner.h"
+#include "study/study_file.h"
+#include "test_helpers.h"
+
+using namespace rl;
+using namespace rl::study;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("restir-study-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+std::string cbox() { return test::own_scene("cornell-box.pbrt"); }
+
+// A study JSON around the given body fields (scenes default to the Cornell box, absolute path).
+std::string study_json(const std::string& body) {
+  return "{\"scenes\": [\"" + cbox() + "\"]" + (body.empty() ? "" : ", " + body) + "}";
+}
+
+std::string error_of(const std::string& json) {
+  try {
+    parse_study(json, "/tmp/x.json", false);
+  } catch (const StudyError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;  // simple split on ',' (the test studies quote nothing)
+  int col(const std::string& name) const {
+    for (size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return int(i);
+    return -1;
+  }
+};
+CsvTable read_csv(const fs::path& p) {
+  CsvTable t;
+  std::istringstream in(read(p));
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::string cur;
+    for (char c : line) {
+      if (c == ',') f.push_back(cur), cur.clear();
+      else cur += c;
+    }
+    f.push_back(cur);
+    if (first) t.header = f, first = false;
+    else t.rows.push_back(f);
+  }
+  return t;
+}
+
+size_t rows_in_json(const fs::path& p) {
+  if (!fs::exists(p)) return 0;
+  try {
+    return nlohmann::json::parse(read(p)).at("rows").size();
+  } catch (...) {
+    return 0;  // being replaced right now: the rename is atomic, so this does not happen, but be safe
+  }
+}
+
+// Starts `restir study FILE --out DIR -q` in a child process; returns its pid.
+pid_t spawn_study(const fs::path& file, const fs::path& out) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    dup2(devnull, 2);
+    execl(RESTIR_BIN, RESTIR_BIN, "study", file.c_str(), "--out", out.c_str(), "-q", (char*)nullptr);
+    _exit(127);
+  }
+  return pid;
+}
+
+int wait_exit(pid_t pid) {
+  int st = 0;
+  waitpid(pid, &st, 0);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+// A study with enough jobs that a kill lands in the middle: 6 configurations x 4 seeds.
+std::string resumable_study() {
+  return study_json(R"("base": {"integrator": "restir-di", "film.width": 96, "film.height": 54, "render.spp": 1},
+    "axes": [{"key": "di.spatial_neighbors", "range": {"from": 0, "to": 5, "step": 1}}],
+    "seeds": 4, "frames": 6, "metrics": ["time", "mse", "relmse", "noise"], "reference": {"spp": 16},
+    "plots": [{"name": "relmse", "x": "di.spatial_neighbors", "y": "relmse"}])");
+}
+
+// (id -> relmse, mse) of a finished study; each id must appear once.
+std::map<std::string, std::pair<std::string, std::string>> final_rows(const fs::path& out) {
+  CsvTable t = read_csv(out / "results.csv");
+  int id = t.col("id"), rel = t.col("relmse"), m = t.col("mse");
+  REQUIRE(id >= 0);
+  REQUIRE(rel >= 0);
+  std::map<std::string, std::pair<std::string, std::string>> r;
+  for (const auto& row : t.rows) {
+    CHECK_MESSAGE(!r.count(row[size_t(id)]), "configuration id twice: " << row[size_t(id)]);
+    r[row[size_t(id)]] = {row[size_t(rel)], row[size_t(m)]};
+  }
+  return r;
+}
+
+void check_interrupted_then_resumed(int sig, const std::string& name) {
+  fs::path d = temp_dir(name);
+  write(d / "study.json", resumable_study());
+  // Uninterrupted run for comparison (once for both tests).
+  static const auto expected = [] {
+    fs::path fd = temp_dir("uninterrupted");
+    write(fd / "study.json", resumable_study());
+    REQUIRE(wait_exit(spawn_study(fd / "study.json", fd / "out")) == 0);
+    auto rows = final_rows(fd / "out");
+    fs::remove_all(fd);
+    return rows;
+  }();
+  REQUIRE(expected.size() == 24);
+
+  fs::path out = d / "interrupted";
+  pid_t pid = spawn_study(d / "study.json", out);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (rows_in_json(out / "results.json") == 0 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  kill(pid, sig);
+  int status = wait_exit(pid);
+  if (sig == SIGINT) CHECK(status == 130);  // finishes the job in flight, saves, exits 130
+  else CHECK(status == 128 + SIGKILL);
+  const size_t saved = rows_in_json(out / "results.json");
+  CHECK(saved >= 1);
+  CHECK_MESSAGE(saved < 24, "the study finished before the kill: the test proves nothing");
+  // Whatever was left is whole: the CSV has exactly the rows of the JSON, every row complete.
+  CsvTable partial = read_csv(out / "results.csv");
+  CHECK(partial.rows.size() == saved);
+  for (const auto& r : partial.rows) CHECK(r.size() == partial.header.size());
+
+  REQUIRE(wait_exit(spawn_study(d / "study.json", out)) == 0);
+  const auto resumed = final_rows(out);
+  CHECK(resumed.size() == expected.size());
+  for (const auto& [id, m] : expected) {
+    REQUIRE_MESSAGE(resumed.count(id), "missing configuration " << id);
+    CHECK(resumed.at(id).first == m.first);    // relMSE: deterministic renders
+    CHECK(resumed.at(id).second == m.second);  // MSE
+  }
+  // The rows saved before the kill were not recomputed: no leftover temp files either.
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    CHECK_MESSAGE(e.path().filename().string().find(".tmp-") == std::string::npos, e.path());
+  fs::remove_all(d);
+}
+
+void check_outputs(const fs::path& out, const Study& s) {
+  REQUIRE(fs::exists(out / "results.csv"));
+  REQUIRE(fs::exists(out / "results.json"));
+  CsvTable t = read_csv(out / "results.csv");
+  const size_t configs = expand(s).size();
+  const size_t per_job = s.per_frame() ? size_t(s.frames) : 1;
+  CHECK(t.rows.size() == s.scenes.size() * configs * s.seeds.size() * per_job);
+  for (const char* c : {"id", "config", "scene", "seed", "frame", "integrator", "film.width", "render.seed", "ms_median", "fps"})
+    CHECK_MESSAGE(t.col(c) >= 0, "missing column " << c);
+  for (const auto& m : metric_columns(s)) CHECK_MESSAGE(t.col(m) >= 0, "missing metric column " << m);
+  const std::string html = read(out / "report.html");
+  CHECK(html.find("<table class=\"configurations\">") != std::string::npos);
+  CHECK(html.find("machine:") != std::string::npos);
+  CHECK(html.find("http") == std::string::npos);  // no network links
+  for (const auto& p : s.plots) {
+    for (const char* ext : {".png", ".svg", ".gp", ".dat"}) {
+      fs::path f = out / "plots" / (p.name + ext);
+      CHECK_MESSAGE(fs::exists(f), f);
+      if (fs::exists(f)) CHECK_MESSAGE(fs::file_size(f) > 0, f);
+    }
+    CHECK_MESSAGE(html.find("<img src=\"plots/" + p.name + ".png\"") != std::string::npos, "no <img> for plot " << p.name);
+  }
+}
+}  // namespace
+
+TEST_SUITE("study") {
+  TEST_CASE("grid expansion is the cartesian product, first axis slowest; zip pairs values") {
+    Study g = parse_study(study_json(R"("axes": [{"key": "di.spatial_neighbors", "values": [0, 1, 2]},
+                                                 {"key": "di.spatial_radius", "values": [10, 20]}])"), "/tmp/g.json", false);
+    auto cg = expand(g);
+    REQUIRE(cg.size() == 6);
+    CHECK(cg[0].values[0].second == "0");
+    CHECK(cg[0].values[1].second == "10");
+    CHECK(cg[1].values[1].second == "20");
+    CHECK(cg[5].values[0].second == "2");
+    Study z = parse_study(study_json(R"("combine": "zip", "axes": [{"key": "film.width", "values": [32, 64, 128]},
+                                                 {"key": "film.height", "values": [18, 36, 72]}])"), "/tmp/z.json", false);
+    auto cz = expand(z);
+    REQUIRE(cz.size() == 3);
+    CHECK(cz[2].values[0].second == "128");
+    CHECK(cz[2].values[1].second == "72");
+    CHECK(error_of(study_json(R"("combine": "zip", "axes": [{"key": "film.width", "values": [32, 64]},
+                                {"key": "film.height", "values": [18]}])")).find("equal length") != std::string::npos);
+    Study none = parse_study(study_json(""), "/tmp/n.json", false);
+    CHECK(expand(none).size() == 1);
+  }
+
+  TEST_CASE("ranges: integer and fractional steps, inclusive end") {
+    Study s = parse_study(study_json(R"("axes": [{"key": "di.spatial_neighbors", "range": {"from": 0, "to": 8, "step": 2}},
+                                                 {"key": "di.spatial_radius", "range": {"from": 0.5, "to": 1.5, "step": 0.25}}])"),
+                          "/tmp/r.json", false);
+    REQUIRE(s.axes.size() == 2);
+    CHECK(s.axes[0].values == std::vector<std::string>{"0", "2", "4", "6", "8"});
+    CHECK(s.axes[1].values == std::vector<std::string>{"0.5", "0.75", "1", "1.25", "1.5"});
+    CHECK(expand(s).size() == 25);
+    CHECK(error_of(study_json(R"("axes": [{"key": "di.spatial_radius", "range": {"from": 0, "to": 1, "step": 0}}])")) != "");
+  }
+
+  TEST_CASE("seeds as a count or a list; quick block overrides") {
+    const std::string j = study_json(R"("base": {"film.width": 320, "film.height": 180}, "seeds": 5, "frames": 8,
+        "quick": {"base": {"film.width": 32}, "seeds": [7, 9], "frames": 2, "reference": {"spp": 8}})");
+    Study full = parse_study(j, "/tmp/q.json", false);
+    CHECK(full.seeds == std::vector<uint64_t>{1, 2, 3, 4, 5});
+    CHECK(full.frames == 8);
+    Study quick = parse_study(j, "/tmp/q.json", true);
+    CHECK(quick.seeds == std::vector<uint64_t>{7, 9});
+    CHECK(quick.frames == 2);
+    CHECK(quick.reference.spp == 8);
+    Options o = make_options(quick, Options{}, expand(quick)[0], 9);
+    CHECK(o.film.width == 32);
+    CHECK(o.film.height == 180);
+    CHECK(o.render.seed == 9);
+    CHECK(o.render.frames == 2);
+  }
+
+  TEST_CASE("unknown keys and bad values are errors naming the key") {
+    CHECK(error_of(study_json(R"("sedes": 3)")).find("unknown key 'sedes'") != std::string::npos);
+    CHECK(error_of(study_json(R"("plots": [{"x": "frame", "y": "fps", "logz": true}])")).find("'logz'") != std::string::npos);
+    CHECK(error_of(study_json(R"("quick": {"film": 3})")).find("'film'") != std::string::npos);
+    CHECK(error_of(study_json(R"("axes": [{"key": "di.spatial_radius", "vals": [1]}])")).find("'vals'") != std::string::npos);
+    CHECK(error_of(study_json(R"("base": {"di.spatial_neighbours": 2})")).find("spatial_neighbours") != std::string::npos);
+    CHECK(error_of(study_json(R"("base": {"di": {"spatial_neighbours": 2}})")).find("spatial_neighbours") != std::string::npos);
+    CHECK(error_of(study_json(R"("axes": [{"key": "render.sample_pattern", "values": ["centre"]}])")).find("centre") != std::string::npos);
+    CHECK(error_of(study_json(R"("metrics": ["psnr"])")).find("psnr") != std::string::npos);
+    CHECK(error_of(study_json(R"("plots": [{"x": "frame", "y": "flip"}])")).find("flip") != std::string::npos);  // not requested
+    CHECK(error_of(R"({"scenes": ["no/such/scene.pbrt"]})").find("no/such/scene.pbrt") != std::string::npos);
+    CHECK(error_of(R"({"scenes": ["x.pbrt"],)").find("invalid JSON") != std::string::npos);
+    CHECK(error_of(study_json("")) == "");
+  }
+
+  TEST_CASE("relative paths: the study file's folder first, then the repository root") {
+    CHECK(fs::equivalent(repository_root(), RESTIR_SOURCE_DIR));
+    fs::path d = temp_dir("paths");
+    write(d / "local.pbrt", "");
+    CHECK(resolve_path("local.pbrt", d.string()) == (d / "local.pbrt").string());
+    CHECK(fs::equivalent(resolve_path("scenes/cornell-box.pbrt", d.string()), cbox()));
+    CHECK(fs::equivalent(find_study("m-cap"), fs::path(RESTIR_SOURCE_DIR) / "studies/m-cap.json"));
+    CHECK_THROWS_AS(find_study("no-such-study"), StudyError);
+    fs::remove_all(d);
+  }
+
+  TEST_CASE("aggregation: mean and standard error over seeds, one series per value") {
+    std::vector<Row> rows;
+    auto add = [&](const std::string& scene, const std::string& x, double y) {
+      Row r;
+      r.scene = scene;
+      r.options = {{"di.spatial_neighbors", x}};
+      r.metrics["relmse"] = y;
+      rows.push_back(r);
+    };
+    add("a", "2", 1.0);
+    add("a", "2", 3.0);
+    add("a", "10", 5.0);
+    add("b", "2", 7.0);
+    PlotSpec p;
+    p.x = "di.spatial_neighbors";
+    p.y = "relmse";
+    p.series = "scene";
+    bool numeric = false;
+    auto s = aggregate(p, rows, &numeric);
+    CHECK(numeric);
+    REQUIRE(s.size() == 2);
+    REQUIRE(s[0].points.size() == 2);
+    CHECK(s[0].points[0].x == "2");  // numeric order, not string order
+    CHECK(s[0].points[0].y.mean == doctest::Approx(2.0));
+    CHECK(s[0].points[0].y.stderr_ == doctest::Approx(1.0));  // sd sqrt(2) / sqrt(2)
+    CHECK(s[0].points[1].y.n == 1);
+    CHECK(s[1].points[0].y.mean == doctest::Approx(7.0));
+  }
+
+  TEST_CASE("noise: per-pixel standard deviation across seeds") {
+    Image a(4, 2, Rgb(1.0f)), b(4, 2, Rgb(3.0f));
+    CHECK(noise_across({a, b}) == doctest::Approx(std::sqrt(2.0)));
+    CHECK(noise_across({a, a, a}) == doctest::Approx(0.0));
+    CHECK(std::isnan(noise_across({a})));
+  }
+
+  TEST_CASE("a study writes CSV, plots, images and report; the reference cache is reused") {
+    fs::path d = temp_dir("cache");
+    write(d / "s.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
+        "axes": [{"key": "di.spatial_radius", "values": [0, 10]}], "seeds": 2, "frames": 2,
+        "metrics": ["time", "relmse", "flip", "noise"], "reference": {"spp": 8},
+        "plots": [{"name": "relmse", "x": "di.spatial_radius", "y": "relmse"}, {"name": "noise", "x": "di.spatial_radius", "y": "noise"}])"));
+    StudyArgs a;
+    a.study = (d / "s.json").string();
+    a.out = (d / "out").string();
+    a.quiet = true;
+    REQUIRE(run_study(a) == 0);
+    Study s = load_study(a.study, false);
+    check_outputs(a.out, s);
+    CsvTable t = read_csv(d / "out/results.csv");
+    // Noise is filled in and equal for the seeds of one configuration; relMSE is positive.
+    for (const auto& r : t.rows) {
+      CHECK(std::stod(r[size_t(t.col("relmse"))]) > 0);
+      CHECK(std::stod(r[size_t(t.col("noise"))]) > 0);
+    }
+    CHECK(t.rows[0][size_t(t.col("noise"))] == t.rows[1][size_t(t.col("noise"))]);
+    // One reference (both radii share scene, film, depth), written once.
+    std::map<fs::path, fs::file_time_type> refs;
+    for (const auto& e : fs::directory_iterator(d / "out/references")) refs[e.path()] = e.last_write_time();
+    REQUIRE(refs.size() == 1);
+    // Rerun from scratch (no results) and a second study with other radii: no new reference.
+    fs::remove(d / "out/results.json");
+    fs::remove(d / "out/results.csv");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    REQUIRE(run_study(a) == 0);
+    write(d / "s2.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
+        "axes": [{"key": "di.spatial_radius", "values": [30]}], "seeds": 1, "frames": 2, "reference": {"spp": 8}, "metrics": ["relmse"])"));
+    StudyArgs b = a;
+    b.study = (d / "s2.json").string();
+    REQUIRE(run_study(b) == 0);
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(d / "out/references")) {
+      ++n;
+      REQUIRE(refs.count(e.path()));
+      CHECK(e.last_write_time() == refs[e.path()]);
+    }
+    CHECK(n == 1);
+    CHECK(read(d / "out/report.html").find("0 rendered now, 1 reused") != std::string::npos);
+    // A different reference configuration (more spp) is a different file.
+    write(d / "s3.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
+        "seeds": 1, "frames": 1, "reference": {"spp": 9}, "metrics": ["relmse"])"));
+    b.study = (d / "s3.json").string();
+    REQUIRE(run_study(b) == 0);
+    n = 0;
+    for (const auto& e : fs::directory_iterator(d / "out/references")) n += e.path().extension() == ".exr";
+    CHECK(n == 2);
+    fs::remove_all(d);
+  }
+
+  TEST_CASE("a completed study is not recomputed on a rerun") {
+    fs::path d = temp_dir("rerun");
+    write(d / "s.json", study_json(R"("base": {"integrator": "pt", "film.width": 16, "film.height": 8, "render.spp": 1},
+        "seeds": 2, "metrics": ["relmse"], "reference": {"spp": 4})"));
+    StudyArgs a;
+    a.study = (d / "s.json").string();
+    a.out = (d / "out").string();
+    a.quiet = true;
+    REQUIRE(run_study(a) == 0);
+    const std::string first = read(d / "out/results.csv");
+    auto images_time = fs::last_write_time(fs::directory_iterator(d / "out/images")->path());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    REQUIRE(run_study(a) == 0);
+    CHECK(read(d / "out/results.csv") == first);  // frame times included: the rows were kept, not re-measured
+    CHECK(fs::last_write_time(fs::directory_iterator(d / "out/images")->path()) == images_time);
+    fs::remove_all(d);
+  }
+
+  TEST_CASE("interrupted by SIGINT: saved rows are whole, the rerun completes them exactly once") {
+    check_interrupted_then_resumed(SIGINT, "sigint");
+  }
+
+  TEST_CASE("killed by SIGKILL: saved rows are whole, the rerun completes them exactly once") {
+    check_interrupted_then_resumed(SIGKILL, "sigkill");
+  }
+
+  TEST_CASE("CLI: --list names every built-in study; errors are one line and a non-zero exit") {
+    auto r = test::run_restir("study --list");
+    CHECK(r.status == 0);
+    for (const char* n : {"resolution", "sample-pattern", "spatial-neighbors", "spatial-radius", "m-cap", "bsdf-sampling",
+                          "tonemap", "scenes", "candidates"})
+      CHECK_MESSAGE(r.output.find(n) != std::string::npos, n);
+    fs::path d = temp_dir("cli");
+    auto bad = test::run_restir("study no-such-study --out " + (d / "o").string());
+    CHECK(bad.status != 0);
+    CHECK(bad.output.rfind("error: ", 0) == 0);
+    CHECK(std::count(bad.output.begin(), bad.output.end(), '\n') == 1);
+    write(d / "typo.json", study_json(R"("frams": 3)"));
+    auto typo = test::run_restir("study " + (d / "typo.json").string() + " --out " + (d / "o").string());
+    CHECK(typo.status != 0);
+    CHECK(typo.output.find("unknown key 'frams'") != std::string::npos);
+    CHECK(std::count(typo.output.begin(), typo.output.end(), '\n') == 1);
+    fs::remove_all(d);
+  }
+}
+
+TEST_SUITE("slow") {
+  TEST_CASE("every built-in study runs in --quick form and writes CSV, plots and report") {
+    fs::path d = temp_dir("builtin");
+    auto list = list_studies();
+    CHECK(list.size() >= 9);
+    for (const auto& [name, description] : list) {
+      CAPTURE(name);
+      CHECK(description.find("(invalid") == std::string::npos);
+      CHECK(!description.empty());
+      auto r = test::run_restir("study " + name + " --quick -q --jobs 2 --out " + (d / name).string());
+      REQUIRE_MESSAGE(r.status == 0, r.output);
+      Study s = load_study(find_study(name), true);
+      CHECK(!s.plots.empty());
+      check_outputs(d / name, s);
+    }
+    fs::remove_all(d);
+  }
+}
