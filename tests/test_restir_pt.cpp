@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include "convergence.h"
 #include "image/metrics.h"
 #include "integrators/pt_path.h"
@@ -118,6 +120,29 @@ TEST_SUITE("restir_pt") {
         CHECK(check_round_trips(fx, s, 3) > 20);
       }
     }
+  }
+}
+
+TEST_SUITE("restir_pt") {
+  TEST_CASE("debug view: reconnection depth is 2 for reconnection, 0 for replay, the first rough vertex for hybrid") {
+    Scene scene = load_scene(own_scene("teapot.pbrt"));
+    Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=2", "film.width=32", "film.height=18",
+                                    "render.debug_view=reconnection-depth", "pt.max_depth=3"});
+    auto depths = [&](const char* shift) {
+      set_option(o, "pt.shift", shift);
+      std::vector<int> count(8, 0);
+      for (const Rgb& p : render(scene, o).last.pixels) ++count[size_t(std::clamp(int(p.x), 0, 7))];
+      return count;
+    };
+    auto rc = depths("reconnection");
+    CHECK(rc[2] > 0);
+    CHECK(rc[1] + rc[3] + rc[4] + rc[5] == 0);
+    auto replay = depths("random-replay");
+    CHECK(replay[0] == 32 * 18);
+    auto hybrid = depths("hybrid");
+    CHECK(hybrid[2] > 0);                                   // rough first bounces reconnect at once
+    CHECK(hybrid[0] + hybrid[3] + hybrid[4] > 0);           // glossy / glass teapots defer or replay
+    CHECK(hybrid[1] == 0);
   }
 }
 

@@ -20,7 +20,7 @@ enum class LightSelection { power, uniform };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
-enum class DebugView { none, confidence, reuse_source, rejected_shifts };
+enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
 
 template <> struct EnumNames<SamplePattern> {
   static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
@@ -40,9 +40,9 @@ template <> struct EnumNames<MisHeuristic> {
       {{MisHeuristic::balance, "balance"}, {MisHeuristic::power, "power"}}};
 };
 template <> struct EnumNames<DebugView> {
-  static constexpr std::array<std::pair<DebugView, const char*>, 4> values{
+  static constexpr std::array<std::pair<DebugView, const char*>, 5> values{
       {{DebugView::none, "none"}, {DebugView::confidence, "confidence"}, {DebugView::reuse_source, "reuse-source"},
-       {DebugView::rejected_shifts, "rejected-shifts"}}};
+       {DebugView::rejected_shifts, "rejected-shifts"}, {DebugView::reconnection_depth, "reconnection-depth"}}};
 };
 template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
@@ -162,7 +162,8 @@ void visit_options(O& o, V& v) {
   v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");
   v("render.debug_view", o.render.debug_view,
     "ReSTIR integrators: output a diagnostic instead of radiance: reservoir confidence M, reuse source of the final "
-    "sample (0 = own, 1 = temporal, 2 = spatial), or the fraction of reuse candidates whose shift failed");
+    "sample (0 = own, 1 = temporal, 2 = spatial), the fraction of reuse candidates rejected or whose shift failed, or "
+    "(restir-pt) the reconnection vertex k of the final path (0 = none)");
   v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting)", Range{0, 1024});
   v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex");
   v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7)");

@@ -119,6 +119,10 @@ class RestirDi final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx) { return std::make_unique<RestirDi>(ctx); }
+std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx) {
+  if (ctx.options.render.debug_view == DebugView::reconnection_depth)
+    throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt (DI samples have no path)");
+  return std::make_unique<RestirDi>(ctx);
+}
 
 }  // namespace rl

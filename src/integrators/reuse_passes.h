@@ -50,6 +50,7 @@ bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const 
     case DebugView::confidence: out = Rgb(r.confidence); return true;
     case DebugView::reuse_source: out = Rgb(float(dbg.source[p])); return true;
     case DebugView::rejected_shifts: out = Rgb(dbg.rejected_fraction(p)); return true;
+    case DebugView::reconnection_depth: return false;  // integrator-specific (restir-pt)
   }
   return false;
 }

@@ -115,8 +115,9 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
     std::string plot_cmd = "plot ";
     for (size_t i = 0; i < series.size(); ++i) {
       if (i) plot_cmd += ", \\\n     ";
-      plot_cmd += fmt::format("{} index {} using 1:3:4{} with yerrorlines lw 2 pt 7 title {}",
+      plot_cmd += fmt::format("{} index {} using 1:3:4{} with {} lw 2 pt 7 title {}",
                               i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i, numeric ? "" : ":xticlabels(2)",
+                              numeric ? "yerrorlines" : "yerrorbars",
                               gp_quote(series[i].label));
     }
     if (series.empty() || !any) plot_cmd = "set label 1 \"no data\" at graph 0.5, graph 0.5 center\nplot [0:1][0:1] NaN notitle";

@@ -34,7 +34,7 @@ std::string esc(const std::string& s) {
 
 std::string fmt_stat(const Stat& st) {
   if (st.n == 0) return "–";
-  if (st.n < 2) return fmt::format("{:.4g}", st.mean);
+  if (st.n < 2 || st.stderr_ == 0) return fmt::format("{:.4g}", st.mean);  // one value, or one per configuration (noise)
   return fmt::format("{:.4g} ± {:.2g}", st.mean, st.stderr_);
 }
 
