@@ -17,6 +17,9 @@ enum class PixelFilter { box, triangle, gaussian };
 enum class Tonemap { linear, reinhard, modified_reinhard, aces };
 enum class MisHeuristic { balance, power };
 enum class LightSelection { power, uniform };
+// ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
+// that times the BSDF and cosine at the visible point.
+enum class GiTarget { radiance, contribution };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
@@ -43,6 +46,10 @@ template <> struct EnumNames<DebugView> {
   static constexpr std::array<std::pair<DebugView, const char*>, 5> values{
       {{DebugView::none, "none"}, {DebugView::confidence, "confidence"}, {DebugView::reuse_source, "reuse-source"},
        {DebugView::rejected_shifts, "rejected-shifts"}, {DebugView::reconnection_depth, "reconnection-depth"}}};
+};
+template <> struct EnumNames<GiTarget> {
+  static constexpr std::array<std::pair<GiTarget, const char*>, 2> values{
+      {{GiTarget::radiance, "radiance"}, {GiTarget::contribution, "contribution"}}};
 };
 template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
@@ -106,6 +113,22 @@ struct DiOptions {
   float normal_threshold = 25;
 };
 
+// ReSTIR GI (Ouyang et al. 2021): samples are secondary hits with their cached outgoing radiance.
+struct GiOptions {
+  int max_depth = 3;
+  GiTarget target = GiTarget::contribution;
+  bool temporal = true;
+  int max_history = 20;
+  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
+  int spatial_neighbors = 3;
+  float spatial_radius = 20;
+  int spatial_rounds = 1;
+  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  bool similarity_rejection = true;
+  float depth_threshold = 0.1f;
+  float normal_threshold = 25;
+};
+
 // ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR").
 struct PtOptions {
   ShiftMapping shift = ShiftMapping::hybrid;
@@ -141,6 +164,7 @@ struct Options {
   RenderOptions render;
   PathOptions path;
   DiOptions di;
+  GiOptions gi;
   PtOptions pt;
   OutputOptions output;
 };
@@ -184,6 +208,18 @@ void visit_options(O& o, V& v) {
   v("di.similarity_rejection", o.di.similarity_rejection, "skip neighbours whose depth or normal differ (thresholds below)");
   v("di.depth_threshold", o.di.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
   v("di.normal_threshold", o.di.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
+  v("gi.max_depth", o.gi.max_depth, "maximum path length in bounces, as path.max_depth (the sample point's radiance uses max_depth - 1)", Range{1, 64});
+  v("gi.target", o.gi.target, "target function: luminance of the sample's radiance, or of BSDF x cosine x radiance");
+  v("gi.temporal", o.gi.temporal, "reuse the previous frame's reservoirs");
+  v("gi.max_history", o.gi.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
+  v("gi.temporal_mis", o.gi.temporal_mis, "resampling MIS for temporal reuse");
+  v("gi.spatial_neighbors", o.gi.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
+  v("gi.spatial_radius", o.gi.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
+  v("gi.spatial_rounds", o.gi.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
+  v("gi.spatial_mis", o.gi.spatial_mis, "resampling MIS for spatial reuse");
+  v("gi.similarity_rejection", o.gi.similarity_rejection, "skip neighbours whose depth or normal differ");
+  v("gi.depth_threshold", o.gi.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
+  v("gi.normal_threshold", o.gi.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
   v("pt.shift", o.pt.shift, "shift mapping for path reuse: reconnect at the first secondary vertex, replay the random numbers, or replay until a rough, distant vertex pair and reconnect");
   v("pt.roughness_threshold", o.pt.roughness_threshold, "hybrid: minimum GGX roughness (sqrt(alpha_x alpha_y); diffuse = 1) of both vertices at a reconnection", Range{0, 1});
   v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});

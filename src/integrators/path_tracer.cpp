@@ -22,7 +22,8 @@ float mis_weight(MisHeuristic h, float pa, float pb) {
 
 }  // namespace
 
-Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats) {
+Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
+                  bool skip_first_emission) {
   const Scene& scene = ctx.scene;
   const Lights& lights = ctx.lights;
   const float eps = ctx.accel.ray_epsilon();
@@ -39,6 +40,7 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
       if (stats->record_rays) stats->record_rays->push_back(ray);
     }
     if (!ctx.accel.intersect(ray, hit)) {
+      if (depth == 0 && skip_first_emission) break;
       Rgb Le = lights.environment_radiance(ray.d);
       if (!is_black(Le)) {
         float w = 1;
@@ -51,7 +53,7 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
 
     // Emission seen along the ray, MIS-weighted against light sampling from the previous vertex.
     uint32_t emitter = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
-    if (emitter != kNoEmitter) {
+    if (emitter != kNoEmitter && !(depth == 0 && skip_first_emission)) {
       Rgb Le = lights.emitted(emitter, si.ng, -ray.d);
       if (!is_black(Le)) {
         float w = 1;

@@ -19,7 +19,10 @@ struct PathStats {
 // Radiance arriving along `ray` (pbrt-v4 PathIntegrator::Li): emission, next-event estimation and
 // BSDF sampling combined with MIS, Russian roulette. Shared by the reference integrator and the
 // ReSTIR integrators for their reference/path parts.
-Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats = nullptr);
+// skip_first_emission drops the emission of the first surface hit (ReSTIR GI's sample points carry
+// reflected radiance only; their emission is direct light at the visible point, estimated by NEE).
+Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats = nullptr,
+                  bool skip_first_emission = false);
 
 // Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);

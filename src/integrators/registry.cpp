@@ -4,12 +4,14 @@ namespace rl {
 
 std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx);
 std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx);
+std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx);
 std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx);
 
 const std::vector<IntegratorInfo>& integrator_registry() {
   static const std::vector<IntegratorInfo> registry = {
       {"pt", "reference path tracer: NEE + MIS, Russian roulette (path.*)", &make_path_tracer},
       {"restir-di", "ReSTIR DI, direct lighting with temporal and spatial reuse (di.*)", &make_restir_di},
+      {"restir-gi", "ReSTIR GI, reuse of secondary hits with cached radiance, reconnection shift (gi.*)", &make_restir_gi},
       {"restir-pt", "ReSTIR PT, path reuse with reconnection / random replay / hybrid shifts (pt.*)", &make_restir_pt},
   };
   return registry;

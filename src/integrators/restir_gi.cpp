@@ -1,0 +1,207 @@
+// ReSTIR GI (Ouyang et al. 2021, "ReSTIR GI: Path resampling for real-time path tracing"): a
+// sample is a secondary hit x_s with its normal and the radiance it reflects toward the visible
+// point that traced it (its own emission is direct light, estimated at the visible point by one
+// light sample, as the paper leaves direct lighting to ReSTIR DI / NEE); reuse reconnects another pixel's visible point to x_s (reconnection shift,
+// jacobian eq. 11) and keeps the cached radiance. That cache assumes x_s reflects the same radiance
+// toward every visible point (Lambertian x_s): exact for diffuse sample points, biased otherwise —
+// ReSTIR PT's reconnection evaluates x_s's BSDF instead. Reference: pt with path.max_depth = gi.max_depth.
+#include "integrators/path_tracer.h"
+#include "integrators/reuse_passes.h"
+#include "restir/shift.h"
+
+namespace rl {
+
+namespace {
+
+struct GiSample {
+  Vec3 position;      // x_s, or the direction when the ray escaped to the environment
+  Vec3 normal;        // geometric normal at x_s
+  bool infinite = false;
+  Rgb radiance{0};    // reflected L_o(x_s -> visible point), estimated by a path from x_s
+};
+using GiReservoir = restir::Reservoir<GiSample>;
+
+// f_s(wo, wi) |cos| L_o at visible surface s for sample x (no visibility).
+Rgb gi_integrand(const GSurface& s, const GiSample& x) {
+  if (!s.valid) return Rgb(0);
+  Vec3 wi = x.position;
+  if (!x.infinite) {
+    const Vec3 d = x.position - s.p;
+    const float len = length(d);
+    if (!(len > 0)) return Rgb(0);
+    wi = d / len;
+  }
+  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
+  const Rgb v = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z) * x.radiance;
+  return is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
+}
+
+float gi_target(const RenderContext& ctx, GiTarget kind, const GSurface& s, const GiSample& x, bool visibility) {
+  const Rgb v = gi_integrand(s, x);
+  if (is_black(v)) return 0;
+  if (visibility) {
+    const float eps = ctx.accel.ray_epsilon();
+    const Ray r = x.infinite ? spawn_ray(s.p, s.ng, x.position, eps) : spawn_ray_to(s.p, s.ng, x.position, x.normal, eps);
+    if (ctx.accel.occluded(r)) return 0;
+  }
+  return luminance(kind == GiTarget::radiance ? x.radiance : v);
+}
+
+// Solid angle at `from` -> at `to` for the same sample point (1 for the environment).
+float gi_jacobian(const GiSample& x, Vec3 from, Vec3 to) {
+  return x.infinite ? 1.0f : restir::reconnection_jacobian(from, to, x.position, x.normal);
+}
+
+struct GiBridge {
+  const RenderContext* ctx;
+  GiTarget kind;
+  const GSurface* const* surfaces;
+  bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
+    x = y;
+    jacobian = gi_jacobian(y, surfaces[i]->p, surfaces[0]->p);
+    return jacobian > 0;
+  }
+  float target_from(int i, const GiSample& x) const {
+    const float t = gi_target(*ctx, kind, *surfaces[i], x, true);
+    return i == 0 ? t : t * gi_jacobian(x, surfaces[0]->p, surfaces[i]->p);
+  }
+};
+
+ReuseParams reuse_params(const GiOptions& gi) {
+  return {gi.temporal,        gi.max_history,       gi.temporal_mis,    gi.spatial_neighbors,
+          gi.spatial_radius,  gi.spatial_rounds,    gi.spatial_mis,     gi.similarity_rejection,
+          gi.depth_threshold, gi.normal_threshold};
+}
+
+class RestirGi final : public Integrator {
+ public:
+  explicit RestirGi(const RenderContext& ctx) : ctx_(ctx) {
+    // The sample point's radiance comes from the reference path tracer with one bounce less.
+    path_ = ctx.options.path;
+    path_.max_depth = ctx.options.gi.max_depth - 1;
+  }
+
+  void render_frame(const FrameInfo& frame, Image& out) override {
+    const int spp = ctx_.options.render.spp;
+    if (int(chains_.size()) != spp) chains_.assign(size_t(spp), Chain{});
+    std::vector<Rgb> sum(out.size(), Rgb(0));
+    for (int s = 0; s < spp; ++s) render_chain(frame, s, chains_[size_t(s)], sum);
+    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+  }
+
+ private:
+  struct Chain {
+    GBuffer gbuffer, previous_gbuffer;
+    std::vector<GiReservoir> reservoirs, previous;
+    std::vector<Rgb> specular;  // not resampled: direct light by NEE, or a plain path through a delta BSDF
+    bool has_history = false;
+    ReuseDebug debug;
+  };
+
+  // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of max_depth - 1 bounces).
+  GiReservoir initial(const GSurface& s, Pcg32& rng, Rgb& specular) const {
+    GiReservoir r;
+    r.confidence = 1;
+    if (!s.valid) return r;
+    BsdfSample bs;
+    const float u_lobe = rng.next_float();
+    const Vec2 u = rng.next_2d();
+    if (!bsdf_sample(s.bsdf, s.frame.to_local(s.wo), u_lobe, u, bs) || !(bs.pdf > 0) || is_black(bs.f)) return r;
+    const Vec3 wi = s.frame.to_world(bs.wi);
+    const Ray ray = spawn_ray(s.p, s.ng, wi, ctx_.accel.ray_epsilon());
+    if (bs.is_delta) {  // no NEE and no reconnection through a delta lobe: a plain path estimate
+      specular = bs.f * std::fabs(bs.wi.z) / bs.pdf * path_radiance(ctx_, path_, ray, rng);
+      return r;
+    }
+    const Rgb radiance = path_radiance(ctx_, path_, ray, rng, nullptr, /*skip_first_emission=*/true);
+    GiSample x;
+    x.radiance = radiance;
+    Hit hit;
+    if (ctx_.accel.intersect(ray, hit)) {
+      const SurfaceInteraction si = ctx_.accel.interaction(ray, hit);
+      x.position = si.p;
+      x.normal = si.ng;
+    } else {
+      x.infinite = true;
+      x.position = wi;
+    }
+    const float t = gi_target(ctx_, ctx_.options.gi.target, s, x, false);  // visible: it was traced
+    restir::stream(r, x, t, t / bs.pdf, rng.next_float());
+    restir::finalize(r);
+    return r;
+  }
+
+  // Direct light at a non-delta visible point: one light sample (no MIS: the GI samples exclude
+  // emission, so light sampling is the only strategy for it).
+  Rgb direct(const GSurface& s, Pcg32& rng) const {
+    if (!s.valid || bsdf_is_delta(s.bsdf)) return Rgb(0);
+    LightSample ls;
+    const float u_select = rng.next_float();
+    const Vec2 u = rng.next_2d();
+    if (!ctx_.lights.sample(s.p, u_select, u, ls) || !(ls.pdf > 0)) return Rgb(0);
+    const Vec3 wi_l = s.frame.to_local(ls.wi);
+    const Rgb f = bsdf_eval(s.bsdf, s.frame.to_local(s.wo), wi_l) * std::fabs(wi_l.z);
+    if (is_black(f)) return Rgb(0);
+    const float eps = ctx_.accel.ray_epsilon();
+    const Ray shadow = ls.distance >= kInfinity ? spawn_ray(s.p, s.ng, ls.wi, eps) : spawn_ray_to(s.p, s.ng, ls.position, ls.normal, eps);
+    return ctx_.accel.occluded(shadow) ? Rgb(0) : f * ls.radiance / ls.pdf;
+  }
+
+  void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
+    const Options& o = ctx_.options;
+    const ReuseParams rp = reuse_params(o.gi);
+    const int w = frame.camera->width(), h = frame.camera->height();
+    const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
+    const uint64_t seed = o.render.seed;
+    build_gbuffer(ctx_, *frame.camera, frame.index, s, c.gbuffer);
+    const GBuffer& g = c.gbuffer;
+    c.reservoirs.assign(size_t(w) * size_t(h), GiReservoir{});
+    c.specular.assign(c.reservoirs.size(), Rgb(0));
+    c.debug.reset(c.reservoirs.size());
+    auto make_bridge = [&](const GSurface* const* surfaces, int) { return GiBridge{&ctx_, o.gi.target, surfaces}; };
+
+    parallel_for_pixels(w, h, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * w + x);
+      Pcg32 rng = make_rng(p, f, RngPass::path, seed, chain);
+      c.reservoirs[p] = initial(g.at(x, y), rng, c.specular[p]);
+      c.specular[p] += direct(g.at(x, y), rng);
+    }, frame.progress);
+
+    const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
+    if (rp.temporal && c.has_history && c.previous_gbuffer.width == w && c.previous_gbuffer.height == h)
+      temporal_pass(rp, g, c.previous_gbuffer, prev_cam, c.reservoirs, c.previous, make_bridge, f, seed, chain, c.debug);
+    spatial_passes(rp, g, c.reservoirs, make_bridge, f, seed, chain, c.debug);
+
+    parallel_for_pixels(w, h, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * w + x);
+      const GSurface& sf = g.at(x, y);
+      Rgb dbg;
+      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg)) {
+        sum[p] += dbg;
+        return;
+      }
+      Rgb L = sf.valid ? sf.emitted + c.specular[p] : sf.background;
+      const GiReservoir& r = c.reservoirs[p];
+      if (sf.valid && r.has_sample()) L += gi_integrand(sf, r.sample) * r.ucw;  // visible: the target included it
+      sum[p] += L;
+    });
+
+    c.previous.swap(c.reservoirs);
+    std::swap(c.previous_gbuffer, c.gbuffer);
+    c.has_history = true;
+  }
+
+  RenderContext ctx_;
+  PathOptions path_;
+  std::vector<Chain> chains_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx) {
+  if (ctx.options.render.debug_view == DebugView::reconnection_depth)
+    throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt");
+  return std::make_unique<RestirGi>(ctx);
+}
+
+}  // namespace rl
