@@ -321,6 +321,17 @@ TEST_SUITE("study") {
     CHECK(s[1].points[0].y.mean == doctest::Approx(7.0));
   }
 
+  TEST_CASE("a series key 'a+b' gives one series per pair of values") {
+    Row r;
+    r.scene = "s";
+    r.options = {{"integrator", "restir-pt"}, {"pt.shift", "hybrid"}};
+    CHECK(r.option("integrator+pt.shift") == "restir-pt hybrid");
+    CHECK(r.option("scene+integrator") == "s restir-pt");
+    CHECK(error_of(study_json(R"("plots": [{"x": "scene", "y": "fps", "series": "integrator+pt.shfit"}])")).find("pt.shfit") !=
+          std::string::npos);
+    CHECK(error_of(study_json(R"("plots": [{"x": "scene", "y": "fps", "series": "integrator+pt.shift"}])")) == "");
+  }
+
   TEST_CASE("noise: per-pixel standard deviation across seeds") {
     Image a(4, 2, Rgb(1.0f)), b(4, 2, Rgb(3.0f));
     CHECK(noise_across({a, b}) == doctest::Approx(std::sqrt(2.0)));
@@ -411,7 +422,7 @@ TEST_SUITE("study") {
     auto r = test::run_restir("study --list");
     CHECK(r.status == 0);
     for (const char* n : {"resolution", "sample-pattern", "spatial-neighbors", "spatial-radius", "m-cap", "bsdf-sampling",
-                          "tonemap", "scenes", "candidates"})
+                          "tonemap", "scenes", "candidates", "shift-mapping", "m-cap-pt"})
       CHECK_MESSAGE(r.output.find(n) != std::string::npos, n);
     fs::path d = temp_dir("cli");
     auto bad = test::run_restir("study no-such-study --out " + (d / "o").string());

@@ -15,6 +15,8 @@ namespace fs = std::filesystem;
 using nlohmann::ordered_json;
 
 std::string Row::option(const std::string& key) const {
+  if (auto plus = key.find('+'); plus != std::string::npos)  // "a+b": both values, for series keys
+    return option(key.substr(0, plus)) + " " + option(key.substr(plus + 1));
   if (key == "scene") return scene;
   if (key == "seed") return std::to_string(seed);
   if (key == "frame") return std::to_string(frame);
@@ -160,12 +162,12 @@ std::string rows_to_csv(const std::vector<Row>& rows, const std::vector<std::str
     for (const auto& [k, v] : r.options)
       if (seen.insert(k).second) keys.push_back(k);
   std::string out = "id,config,scene,seed,frame";
-  for (const auto& k : keys) out += "," + csv_field(k);
-  for (const auto& m : metric_columns) out += "," + m;
+  for (const auto& k : keys) out.append(",").append(csv_field(k));
+  for (const auto& m : metric_columns) out.append(",").append(m);
   out += "\n";
   for (const auto& r : rows) {
     out += fmt::format("{},{},{},{},{}", r.id, r.config, csv_field(r.scene), r.seed, r.frame);
-    for (const auto& k : keys) out += "," + csv_field(r.option(k));
+    for (const auto& k : keys) out.append(",").append(csv_field(r.option(k)));
     for (const auto& m : metric_columns) {
       double v = r.metric(m);
       out += std::isfinite(v) ? fmt::format(",{:.9g}", v) : std::string(",");

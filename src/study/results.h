@@ -25,7 +25,8 @@ struct Row {
   std::vector<std::pair<std::string, std::string>> options;  // option_values(), every key
   std::map<std::string, double> metrics;                     // NaN = not computed
 
-  std::string option(const std::string& key) const;  // "scene", "seed", "frame" or an option key
+  // "scene", "seed", "frame" or an option key; "a+b" joins the values of a and b with a space.
+  std::string option(const std::string& key) const;
   double metric(const std::string& name) const;
 };
 

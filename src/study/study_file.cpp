@@ -258,13 +258,17 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
       ps.title = p.value("title", ps.y + " vs " + ps.x);
       if (std::find(cols.begin(), cols.end(), ps.y) == cols.end())
         fail(path, fmt::format("plot '{}': y '{}' is not a metric column of this study", ps.name, ps.y));
-      for (const std::string* k : {&ps.x, &ps.series}) {
-        if (k->empty() || *k == "frame" || *k == "scene" || *k == "seed") continue;
-        Options o;
-        OptionPrinter pr;
-        visit_options(o, pr);
-        if (std::none_of(pr.out.begin(), pr.out.end(), [&](const auto& kv) { return kv.first == *k; }))
-          fail(path, fmt::format("plot '{}': '{}' is not an option key, \"frame\", \"scene\" or \"seed\"", ps.name, *k));
+      for (const std::string* keys : {&ps.x, &ps.series}) {
+        std::stringstream parts(*keys);
+        std::string k;
+        while (std::getline(parts, k, '+')) {  // "a+b": one series per pair of values
+          if (k == "frame" || k == "scene" || k == "seed") continue;
+          Options o;
+          OptionPrinter pr;
+          visit_options(o, pr);
+          if (std::none_of(pr.out.begin(), pr.out.end(), [&](const auto& kv) { return kv.first == k; }))
+            fail(path, fmt::format("plot '{}': '{}' is not an option key, \"frame\", \"scene\" or \"seed\"", ps.name, k));
+        }
       }
       if (!names.insert(ps.name).second) fail(path, fmt::format("two plots named '{}'", ps.name));
       s.plots.push_back(ps);
