@@ -410,6 +410,25 @@ TEST_SUITE("study") {
     fs::remove_all(d);
   }
 
+  TEST_CASE("duplicate configurations run once (same id), also with --jobs 2") {
+    fs::path d = temp_dir("dup");
+    write(d / "s.json", study_json(R"("base": {"integrator": "pt", "film.width": 16, "film.height": 8, "render.spp": 1},
+        "axes": [{"key": "path.max_depth", "values": [2, 3, 2, 3]}], "seeds": [4, 5], "metrics": ["relmse"],
+        "reference": {"spp": 4})"));
+    StudyArgs a;
+    a.study = (d / "s.json").string();
+    a.out = (d / "out").string();
+    a.quiet = true;
+    a.jobs = 2;
+    REQUIRE(run_study(a) == 0);
+    CsvTable t = read_csv(d / "out/results.csv");
+    CHECK(t.rows.size() == 4);
+    std::set<std::string> ids;
+    for (const auto& r : t.rows) ids.insert(r[0]);
+    CHECK(ids.size() == 4);
+    fs::remove_all(d);
+  }
+
   TEST_CASE("interrupted by SIGINT: saved rows are whole, the rerun completes them exactly once") {
     check_interrupted_then_resumed(SIGINT, "sigint");
   }

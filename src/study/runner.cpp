@@ -222,6 +222,7 @@ int run_study(const StudyArgs& a) {
         }
         find_integrator(j.options.integrator);
         j.id = hash_hex(option_identity(j.options, s.scenes[si]));
+        if (std::any_of(jobs.begin(), jobs.end(), [&](const Job& o) { return o.id == j.id; })) continue;  // duplicate values
         Options no_seed = j.options;
         no_seed.render.seed = 0;
         j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]));
