@@ -174,6 +174,7 @@ TEST_SUITE("slow") {
       std::string scene;
       const char* shift;
       const char* mis;
+      const char* extra = "pt.direct=path";
     };
     const Case cases[] = {
         {own_scene("cornell-box.pbrt"), "reconnection", "pairwise"},
@@ -183,6 +184,7 @@ TEST_SUITE("slow") {
         {shared_scene("veach-mis/scene-v4.pbrt"), "random-replay", "pairwise"},
         {shared_scene("veach-mis/scene-v4.pbrt"), "hybrid", "generalized-balance"},
         {shared_scene("veach-mis/scene-v4.pbrt"), "hybrid", "pairwise"},
+        {own_scene("cornell-box.pbrt"), "hybrid", "pairwise", "pt.direct=restir-di"},
     };
     for (const auto& c : cases) {
       Scene scene = load_scene(c.scene);
@@ -191,6 +193,7 @@ TEST_SUITE("slow") {
       o.film.width = o.film.height = 20;
       set_option(o, "pt.shift", c.shift);
       set_option(o, "pt.spatial_mis", c.mis);
+      set_option_assignment(o, c.extra);
       Options ref = o;
       ref.integrator = "pt";
       ref.path.max_depth = 3;
@@ -200,6 +203,7 @@ TEST_SUITE("slow") {
       CAPTURE(c.scene);
       CAPTURE(c.shift);
       CAPTURE(c.mis);
+      CAPTURE(c.extra);
       CAPTURE(st.worst_z);
       CAPTURE(st.image_mean);
       CAPTURE(st.reference_mean);

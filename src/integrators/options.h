@@ -20,6 +20,8 @@ enum class LightSelection { power, uniform };
 // ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
 // that times the BSDF and cosine at the visible point.
 enum class GiTarget { radiance, contribution };
+// Where ReSTIR PT's direct lighting (paths of one bounce) comes from.
+enum class DirectLighting { path, restir_di };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
@@ -50,6 +52,10 @@ template <> struct EnumNames<DebugView> {
 template <> struct EnumNames<GiTarget> {
   static constexpr std::array<std::pair<GiTarget, const char*>, 2> values{
       {{GiTarget::radiance, "radiance"}, {GiTarget::contribution, "contribution"}}};
+};
+template <> struct EnumNames<DirectLighting> {
+  static constexpr std::array<std::pair<DirectLighting, const char*>, 2> values{
+      {{DirectLighting::path, "path"}, {DirectLighting::restir_di, "restir-di"}}};
 };
 template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
@@ -139,6 +145,7 @@ struct PtOptions {
   bool nee = true;
   bool bsdf_sampling = true;
   bool russian_roulette = false;
+  DirectLighting direct = DirectLighting::path;
   bool temporal = true;
   int max_history = 20;
   restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
@@ -228,6 +235,7 @@ void visit_options(O& o, V& v) {
   v("pt.nee", o.pt.nee, "next-event estimation in the paths (MIS-combined with BSDF sampling)");
   v("pt.bsdf_sampling", o.pt.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere");
   v("pt.russian_roulette", o.pt.russian_roulette, "Russian roulette in the paths (its probabilities enter the path pdf; replay must repeat the decisions)");
+  v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.temporal", o.pt.temporal, "reuse the previous frame's path reservoirs");
   v("pt.max_history", o.pt.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
   v("pt.temporal_mis", o.pt.temporal_mis, "resampling MIS for temporal reuse (generalized-balance = Talbot)");

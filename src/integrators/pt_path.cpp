@@ -9,7 +9,8 @@
 namespace rl {
 
 PathSettings path_settings(const PtOptions& o) {
-  return {o.max_depth, o.nee, o.bsdf_sampling, o.russian_roulette, o.shift, o.roughness_threshold, o.distance_threshold};
+  return {o.max_depth,          o.nee, o.bsdf_sampling, o.russian_roulette, o.shift, o.roughness_threshold,
+          o.distance_threshold, o.direct == DirectLighting::restir_di ? 3 : 2};
 }
 
 namespace {
@@ -248,7 +249,7 @@ PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSetting
     auto offer = [&](int n, bool nee_tag, uint32_t emitter, Vec3 pos, Vec3 normal, bool is_direction, Rgb last_fcos,
                      Rgb tail, float path_pdf, float mis, const Terminal& t) {
       const Rgb contribution = beta * last_fcos * tail * mis;
-      const float target = luminance(contribution);
+      const float target = n >= ps.min_length ? luminance(contribution) : 0.0f;
       if (!(target > 0) || !(path_pdf > 0)) {
         (void)stream_rng.next_float();
         return;

@@ -56,6 +56,7 @@ struct PathSettings {
   ShiftMapping shift = ShiftMapping::hybrid;
   float roughness_threshold = 0.2f;
   float distance_threshold = 0.1f;
+  int min_length = 2;  // shortest path offered (3 when direct lighting comes from ReSTIR DI)
 };
 PathSettings path_settings(const PtOptions& o);
 

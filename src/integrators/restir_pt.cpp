@@ -8,6 +8,8 @@
 
 namespace rl {
 
+std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx);  // registry.cpp lists both
+
 namespace {
 
 // The bridge of mis.h for paths: shifts evaluate the path at the other pixel's primary hit.
@@ -35,7 +37,9 @@ ReuseParams reuse_params(const PtOptions& pt) {
 
 class RestirPt final : public Integrator {
  public:
-  explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options.pt)) {}
+  explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options.pt)) {
+    if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_restir_di(ctx);
+  }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     const int spp = ctx_.options.render.spp;
@@ -43,6 +47,13 @@ class RestirPt final : public Integrator {
     std::vector<Rgb> sum(out.size(), Rgb(0));
     for (int s = 0; s < spp; ++s) render_chain(frame, s, chains_[size_t(s)], sum);
     for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+    // pt.direct = restir-di: ReSTIR DI renders the emission seen and the direct light (same primary
+    // rays), the paths only the indirect part (length >= 3).
+    if (direct_ && ctx_.options.render.debug_view == DebugView::none) {
+      Image direct(out.width, out.height);
+      direct_->render_frame(frame, direct);
+      for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += direct.pixels[i];
+    }
   }
 
  private:
@@ -91,7 +102,7 @@ class RestirPt final : public Integrator {
         sum[p] += dbg;
         return;
       }
-      Rgb L = sf.valid ? sf.emitted : sf.background;
+      Rgb L = direct_ ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
       const PathReservoir& r = c.reservoirs[p];
       if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
       sum[p] += L;
@@ -105,6 +116,7 @@ class RestirPt final : public Integrator {
   RenderContext ctx_;
   PathSettings settings_;
   std::vector<Chain> chains_;
+  std::unique_ptr<Integrator> direct_;  // ReSTIR DI when pt.direct = restir-di
 };
 
 }  // namespace
