@@ -19,4 +19,8 @@ render furnace "$SHARED/furnace.pbrt" --spp 16 --set path.max_depth=65
 for s in cornell-box many-lights teapot ajar-door env-object; do
   [ -f "$ROOT/scenes/$s.pbrt" ] && render "own-$s" "$ROOT/scenes/$s.pbrt" --spp 32
 done
+# A short default study (the thesis' shift-mapping figure at its --quick size; drop --quick and
+# pick any study from `restir study --list` for the full-size figures).
+"$R" study shift-mapping --quick --out "$OUT/study-shift-mapping" -q
 echo "done: images in $OUT"
+echo "study report: $OUT/study-shift-mapping/report.html"
