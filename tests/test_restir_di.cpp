@@ -29,9 +29,9 @@ TEST_SUITE("restir_di") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     Options o = di_options(scene, 16, {"di.spatial_neighbors=0", "render.frames=30", "render.debug_view=confidence",
                                        "di.light_candidates=8", "di.bsdf_candidates=1"});
-    o.di.max_history = 5;
+    o.di.reuse.max_history = 5;
     Image capped = render(scene, o).last;
-    o.di.max_history = 0;
+    o.di.reuse.max_history = 0;
     Image uncapped = render(scene, o).last;
     float max_capped = 0, max_uncapped = 0;
     for (size_t i = 0; i < capped.size(); ++i) {
@@ -51,7 +51,7 @@ TEST_SUITE("restir_di") {
     CHECK(spatial > 0);
     CHECK(temporal + own > 0);
     o.render.debug_view = DebugView::rejected_shifts;
-    o.di.spatial_radius = 1000;  // most neighbours fall off screen
+    o.di.reuse.spatial_radius = 1000;  // most neighbours fall off screen
     Image rej = render(scene, o).last;
     double mean = 0;
     for (const Rgb& p : rej.pixels) mean += p.x;
@@ -121,11 +121,11 @@ TEST_SUITE("slow") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     Options o = di_options(scene, 32, {"di.spatial_mis=constant", "di.temporal=false", "di.spatial_radius=12",
                                        "di.spatial_neighbors=8", "render.frames=1"});
-    o.di.similarity_rejection = false;
+    o.di.reuse.similarity_rejection = false;
     BlockStats loose = compare_to_reference(scene, o, reference_options(o, 1024), 24, 4, 4.5);
-    o.di.similarity_rejection = true;
-    o.di.normal_threshold = 5;
-    o.di.depth_threshold = 0.02f;
+    o.di.reuse.similarity_rejection = true;
+    o.di.reuse.normal_threshold = 5;
+    o.di.reuse.depth_threshold = 0.02f;
     BlockStats strict = compare_to_reference(scene, o, reference_options(o, 1024), 24, 4, 4.5);
     CAPTURE(loose.relative_bias());
     CAPTURE(strict.relative_bias());

@@ -100,29 +100,9 @@ struct PathOptions {
   int rr_min_depth = 3;
 };
 
-// ReSTIR DI (Bitterli et al. 2020). Reservoirs hold points on emitters (area measure), directions
-// of the environment (solid angle) or point lights, so reuse across pixels is the identity shift.
-struct DiOptions {
-  int light_candidates = 32;
-  int bsdf_candidates = 1;
-  bool visibility_reuse = true;
-  bool neighbor_visibility = true;
-  bool temporal = true;
-  int max_history = 20;
-  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
-  int spatial_neighbors = 5;
-  float spatial_radius = 30;
-  int spatial_rounds = 1;
-  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
-  bool similarity_rejection = true;
-  float depth_threshold = 0.1f;
-  float normal_threshold = 25;
-};
-
-// ReSTIR GI (Ouyang et al. 2021): samples are secondary hits with their cached outgoing radiance.
-struct GiOptions {
-  int max_depth = 3;
-  GiTarget target = GiTarget::contribution;
+// Spatiotemporal reuse, shared by ReSTIR DI, GI and PT (one struct, listed once by visit_reuse;
+// its keys sit directly under the integrator's prefix: di.temporal, pt.spatial_radius, ...).
+struct ReuseOptions {
   bool temporal = true;
   int max_history = 20;
   restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
@@ -133,6 +113,23 @@ struct GiOptions {
   bool similarity_rejection = true;
   float depth_threshold = 0.1f;
   float normal_threshold = 25;
+};
+
+// ReSTIR DI (Bitterli et al. 2020). Reservoirs hold points on emitters (area measure), directions
+// of the environment (solid angle) or point lights, so reuse across pixels is the identity shift.
+struct DiOptions {
+  int light_candidates = 32;
+  int bsdf_candidates = 1;
+  bool visibility_reuse = true;
+  bool neighbor_visibility = true;
+  ReuseOptions reuse{.spatial_neighbors = 5, .spatial_radius = 30};
+};
+
+// ReSTIR GI (Ouyang et al. 2021): samples are secondary hits with their cached outgoing radiance.
+struct GiOptions {
+  int max_depth = 3;
+  GiTarget target = GiTarget::contribution;
+  ReuseOptions reuse;
 };
 
 // ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR").
@@ -146,16 +143,7 @@ struct PtOptions {
   bool bsdf_sampling = true;
   bool russian_roulette = false;
   DirectLighting direct = DirectLighting::path;
-  bool temporal = true;
-  int max_history = 20;
-  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
-  int spatial_neighbors = 3;
-  float spatial_radius = 20;
-  int spatial_rounds = 1;
-  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
-  bool similarity_rejection = true;
-  float depth_threshold = 0.1f;
-  float normal_threshold = 25;
+  ReuseOptions reuse;
 };
 
 struct OutputOptions {
@@ -175,6 +163,24 @@ struct Options {
   PtOptions pt;
   OutputOptions output;
 };
+
+// The reuse keys of one integrator ("di", "gi", "pt"); the key text lives for the visitor call.
+template <class R, class V>
+void visit_reuse(const char* prefix, R& r, V& v) {
+  const std::string p = std::string(prefix) + ".";
+  v((p + "temporal").c_str(), r.temporal, "reuse the previous frame's reservoirs (reprojected through the previous camera)");
+  v((p + "max_history").c_str(), r.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)",
+    Range{0, 1000000});
+  v((p + "temporal_mis").c_str(), r.temporal_mis, "resampling MIS for temporal reuse (generalized-balance = Talbot)");
+  v((p + "spatial_neighbors").c_str(), r.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
+  v((p + "spatial_radius").c_str(), r.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
+  v((p + "spatial_rounds").c_str(), r.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
+  v((p + "spatial_mis").c_str(), r.spatial_mis, "resampling MIS for spatial reuse");
+  v((p + "similarity_rejection").c_str(), r.similarity_rejection, "skip neighbours / history whose depth or normal differ");
+  v((p + "depth_threshold").c_str(), r.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
+  v((p + "normal_threshold").c_str(), r.normal_threshold, "max normal angle (degrees) between a pixel and a reused one",
+    Range{0, 180});
+}
 
 // The one list. Help texts say what a value means; ranges reject absurd values up front.
 template <class O, class V>
@@ -205,28 +211,10 @@ void visit_options(O& o, V& v) {
   v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
   v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse");
   v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
-  v("di.temporal", o.di.temporal, "reuse the previous frame's reservoirs (reprojected through the previous camera)");
-  v("di.max_history", o.di.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
-  v("di.temporal_mis", o.di.temporal_mis, "resampling MIS for temporal reuse");
-  v("di.spatial_neighbors", o.di.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
-  v("di.spatial_radius", o.di.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
-  v("di.spatial_rounds", o.di.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
-  v("di.spatial_mis", o.di.spatial_mis, "resampling MIS for spatial reuse");
-  v("di.similarity_rejection", o.di.similarity_rejection, "skip neighbours whose depth or normal differ (thresholds below)");
-  v("di.depth_threshold", o.di.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
-  v("di.normal_threshold", o.di.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
+  visit_reuse("di", o.di.reuse, v);
   v("gi.max_depth", o.gi.max_depth, "maximum path length in bounces, as path.max_depth (the sample point's radiance uses max_depth - 1)", Range{1, 64});
   v("gi.target", o.gi.target, "target function: luminance of the sample's radiance, or of BSDF x cosine x radiance");
-  v("gi.temporal", o.gi.temporal, "reuse the previous frame's reservoirs");
-  v("gi.max_history", o.gi.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
-  v("gi.temporal_mis", o.gi.temporal_mis, "resampling MIS for temporal reuse");
-  v("gi.spatial_neighbors", o.gi.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
-  v("gi.spatial_radius", o.gi.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
-  v("gi.spatial_rounds", o.gi.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
-  v("gi.spatial_mis", o.gi.spatial_mis, "resampling MIS for spatial reuse");
-  v("gi.similarity_rejection", o.gi.similarity_rejection, "skip neighbours whose depth or normal differ");
-  v("gi.depth_threshold", o.gi.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
-  v("gi.normal_threshold", o.gi.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
+  visit_reuse("gi", o.gi.reuse, v);
   v("pt.shift", o.pt.shift, "shift mapping for path reuse: reconnect at the first secondary vertex, replay the random numbers, or replay until a rough, distant vertex pair and reconnect");
   v("pt.roughness_threshold", o.pt.roughness_threshold, "hybrid: minimum GGX roughness (sqrt(alpha_x alpha_y); diffuse = 1) of both vertices at a reconnection", Range{0, 1});
   v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});
@@ -236,16 +224,7 @@ void visit_options(O& o, V& v) {
   v("pt.bsdf_sampling", o.pt.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere");
   v("pt.russian_roulette", o.pt.russian_roulette, "Russian roulette in the paths (its probabilities enter the path pdf; replay must repeat the decisions)");
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
-  v("pt.temporal", o.pt.temporal, "reuse the previous frame's path reservoirs");
-  v("pt.max_history", o.pt.max_history, "M-cap: history confidence <= max_history x the current one (0 = no cap)", Range{0, 1000000});
-  v("pt.temporal_mis", o.pt.temporal_mis, "resampling MIS for temporal reuse (generalized-balance = Talbot)");
-  v("pt.spatial_neighbors", o.pt.spatial_neighbors, "neighbours per spatial round (0 = no spatial reuse)", Range{0, 64});
-  v("pt.spatial_radius", o.pt.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
-  v("pt.spatial_rounds", o.pt.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
-  v("pt.spatial_mis", o.pt.spatial_mis, "resampling MIS for spatial reuse");
-  v("pt.similarity_rejection", o.pt.similarity_rejection, "skip neighbours whose depth or normal differ");
-  v("pt.depth_threshold", o.pt.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
-  v("pt.normal_threshold", o.pt.normal_threshold, "max normal angle (degrees) between a pixel and a reused one", Range{0, 180});
+  visit_reuse("pt", o.pt.reuse, v);
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});

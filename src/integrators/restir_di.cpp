@@ -27,11 +27,6 @@ struct DiBridge {
   }
 };
 
-ReuseParams reuse_params(const DiOptions& di) {
-  return {di.temporal,        di.max_history,        di.temporal_mis,    di.spatial_neighbors,
-          di.spatial_radius,  di.spatial_rounds,     di.spatial_mis,     di.similarity_rejection,
-          di.depth_threshold, di.normal_threshold};
-}
 
 class RestirDi final : public Integrator {
  public:
@@ -57,7 +52,7 @@ class RestirDi final : public Integrator {
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
     const Options& o = ctx_.options;
     const DiOptions& di = o.di;
-    const ReuseParams rp = reuse_params(di);
+    const ReuseOptions& rp = di.reuse;
     const int w = frame.camera->width(), h = frame.camera->height();
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const uint64_t seed = o.render.seed;

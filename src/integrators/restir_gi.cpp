@@ -67,11 +67,6 @@ struct GiBridge {
   }
 };
 
-ReuseParams reuse_params(const GiOptions& gi) {
-  return {gi.temporal,        gi.max_history,       gi.temporal_mis,    gi.spatial_neighbors,
-          gi.spatial_radius,  gi.spatial_rounds,    gi.spatial_mis,     gi.similarity_rejection,
-          gi.depth_threshold, gi.normal_threshold};
-}
 
 class RestirGi final : public Integrator {
  public:
@@ -149,7 +144,7 @@ class RestirGi final : public Integrator {
 
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
     const Options& o = ctx_.options;
-    const ReuseParams rp = reuse_params(o.gi);
+    const ReuseOptions& rp = o.gi.reuse;
     const int w = frame.camera->width(), h = frame.camera->height();
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const uint64_t seed = o.render.seed;

@@ -29,11 +29,6 @@ struct PtBridge {
   }
 };
 
-ReuseParams reuse_params(const PtOptions& pt) {
-  return {pt.temporal,        pt.max_history,       pt.temporal_mis,    pt.spatial_neighbors,
-          pt.spatial_radius,  pt.spatial_rounds,    pt.spatial_mis,     pt.similarity_rejection,
-          pt.depth_threshold, pt.normal_threshold};
-}
 
 class RestirPt final : public Integrator {
  public:
@@ -66,7 +61,7 @@ class RestirPt final : public Integrator {
 
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
     const Options& o = ctx_.options;
-    const ReuseParams rp = reuse_params(o.pt);
+    const ReuseOptions& rp = o.pt.reuse;
     const int w = frame.camera->width(), h = frame.camera->height();
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const uint64_t seed = o.render.seed;

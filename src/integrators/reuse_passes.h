@@ -15,18 +15,6 @@
 
 namespace rl {
 
-struct ReuseParams {
-  bool temporal = true;
-  int max_history = 20;
-  restir::ReuseMis temporal_mis = restir::ReuseMis::generalized_balance;
-  int spatial_neighbors = 5;
-  float spatial_radius = 30;
-  int spatial_rounds = 1;
-  restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
-  bool similarity_rejection = true;
-  float depth_threshold = 0.1f;
-  float normal_threshold = 25;
-};
 
 // Per-pixel diagnostics behind render.debug_view.
 struct ReuseDebug {
@@ -58,7 +46,7 @@ bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const 
 // Temporal reuse: combine each pixel's reservoir with last frame's final reservoir at the
 // reprojected pixel (if that surface is similar), history confidence capped (M-cap).
 template <class Sample, class MakeBridge>
-void temporal_pass(const ReuseParams& rp, const GBuffer& g, const GBuffer& previous_g, const PerspectiveCamera& previous_camera,
+void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& previous_g, const PerspectiveCamera& previous_camera,
                    std::vector<restir::Reservoir<Sample>>& reservoirs, const std::vector<restir::Reservoir<Sample>>& history,
                    const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
   using Res = restir::Reservoir<Sample>;
@@ -99,7 +87,7 @@ void temporal_pass(const ReuseParams& rp, const GBuffer& g, const GBuffer& previ
 // Spatial reuse rounds: each pixel combines its reservoir with those of up to spatial_neighbors
 // pixels on a rotated golden-angle spiral within spatial_radius (reading one buffer, writing the other).
 template <class Sample, class MakeBridge>
-void spatial_passes(const ReuseParams& rp, const GBuffer& g, std::vector<restir::Reservoir<Sample>>& reservoirs,
+void spatial_passes(const ReuseOptions& rp, const GBuffer& g, std::vector<restir::Reservoir<Sample>>& reservoirs,
                     const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
   using Res = restir::Reservoir<Sample>;
   const int w = g.width, h = g.height;
