@@ -33,21 +33,12 @@ class RestirDi final : public Integrator {
   explicit RestirDi(const RenderContext& ctx) : ctx_(ctx) {}
 
   void render_frame(const FrameInfo& frame, Image& out) override {
-    const int spp = ctx_.options.render.spp;
-    if (int(chains_.size()) != spp) chains_.assign(size_t(spp), Chain{});
-    std::vector<Rgb> sum(out.size(), Rgb(0));
-    for (int s = 0; s < spp; ++s) render_chain(frame, s, chains_[size_t(s)], sum);
-    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+    render_chains(chains_, ctx_.options.render.spp, out,
+                  [&](int s, Chain& c, std::vector<Rgb>& sum) { render_chain(frame, s, c, sum); });
   }
 
  private:
-  // One independent chain of reservoirs per pixel sample (render.spp chains).
-  struct Chain {
-    GBuffer gbuffer, previous_gbuffer;
-    std::vector<DiReservoir> reservoirs, previous;  // current frame / last frame's final reservoirs
-    bool has_history = false;
-    ReuseDebug debug;
-  };
+  using Chain = ReservoirChain<LightPoint>;
 
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
     const Options& o = ctx_.options;
@@ -56,10 +47,8 @@ class RestirDi final : public Integrator {
     const int w = frame.camera->width(), h = frame.camera->height();
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const uint64_t seed = o.render.seed;
-    build_gbuffer(ctx_, *frame.camera, frame.index, s, c.gbuffer);
+    c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
-    c.reservoirs.assign(size_t(w) * size_t(h), DiReservoir{});
-    c.debug.reset(c.reservoirs.size());
     auto make_bridge = [&](const GSurface* const* surfaces, int) {
       return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility};
     };
@@ -72,10 +61,7 @@ class RestirDi final : public Integrator {
     }, frame.progress);
 
     // 2. Temporal reuse, 3. spatial reuse.
-    const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
-    if (rp.temporal && c.has_history && c.previous_gbuffer.width == w && c.previous_gbuffer.height == h)
-      temporal_pass(rp, g, c.previous_gbuffer, prev_cam, c.reservoirs, c.previous, make_bridge, f, seed, chain, c.debug);
-    spatial_passes(rp, g, c.reservoirs, make_bridge, f, seed, chain, c.debug);
+    c.reuse(rp, frame, make_bridge, seed, s);
 
     // 4. Shading: f(y) W, with visibility traced unless the target already included it.
     const float eps = ctx_.accel.ray_epsilon();
@@ -102,10 +88,7 @@ class RestirDi final : public Integrator {
       sum[p] += L;
     });
 
-    // 5. Keep this frame's reservoirs and surfaces for the next frame's temporal reuse.
-    c.previous.swap(c.reservoirs);
-    std::swap(c.previous_gbuffer, c.gbuffer);
-    c.has_history = true;
+    c.end_frame();
   }
 
   RenderContext ctx_;

@@ -77,20 +77,13 @@ class RestirGi final : public Integrator {
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
-    const int spp = ctx_.options.render.spp;
-    if (int(chains_.size()) != spp) chains_.assign(size_t(spp), Chain{});
-    std::vector<Rgb> sum(out.size(), Rgb(0));
-    for (int s = 0; s < spp; ++s) render_chain(frame, s, chains_[size_t(s)], sum);
-    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+    render_chains(chains_, ctx_.options.render.spp, out,
+                  [&](int s, Chain& c, std::vector<Rgb>& sum) { render_chain(frame, s, c, sum); });
   }
 
  private:
-  struct Chain {
-    GBuffer gbuffer, previous_gbuffer;
-    std::vector<GiReservoir> reservoirs, previous;
+  struct Chain : ReservoirChain<GiSample> {
     std::vector<Rgb> specular;  // not resampled: direct light by NEE, or a plain path through a delta BSDF
-    bool has_history = false;
-    ReuseDebug debug;
   };
 
   // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of max_depth - 1 bounces).
@@ -148,11 +141,9 @@ class RestirGi final : public Integrator {
     const int w = frame.camera->width(), h = frame.camera->height();
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const uint64_t seed = o.render.seed;
-    build_gbuffer(ctx_, *frame.camera, frame.index, s, c.gbuffer);
+    c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
-    c.reservoirs.assign(size_t(w) * size_t(h), GiReservoir{});
     c.specular.assign(c.reservoirs.size(), Rgb(0));
-    c.debug.reset(c.reservoirs.size());
     auto make_bridge = [&](const GSurface* const* surfaces, int) { return GiBridge{&ctx_, o.gi.target, surfaces}; };
 
     parallel_for_pixels(w, h, [&](int x, int y) {
@@ -162,10 +153,7 @@ class RestirGi final : public Integrator {
       c.specular[p] += direct(g.at(x, y), rng);
     }, frame.progress);
 
-    const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
-    if (rp.temporal && c.has_history && c.previous_gbuffer.width == w && c.previous_gbuffer.height == h)
-      temporal_pass(rp, g, c.previous_gbuffer, prev_cam, c.reservoirs, c.previous, make_bridge, f, seed, chain, c.debug);
-    spatial_passes(rp, g, c.reservoirs, make_bridge, f, seed, chain, c.debug);
+    c.reuse(rp, frame, make_bridge, seed, s);
 
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
@@ -181,9 +169,7 @@ class RestirGi final : public Integrator {
       sum[p] += L;
     });
 
-    c.previous.swap(c.reservoirs);
-    std::swap(c.previous_gbuffer, c.gbuffer);
-    c.has_history = true;
+    c.end_frame();
   }
 
   RenderContext ctx_;

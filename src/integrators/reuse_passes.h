@@ -130,4 +130,45 @@ void spatial_passes(const ReuseOptions& rp, const GBuffer& g, std::vector<restir
   }
 }
 
+// One chain of reservoirs of a ReSTIR integrator (one per pixel sample, render.spp chains): this
+// frame's and last frame's surfaces and reservoirs, and the reuse bookkeeping around them.
+template <class Sample>
+struct ReservoirChain {
+  GBuffer gbuffer, previous_gbuffer;
+  std::vector<restir::Reservoir<Sample>> reservoirs, previous;
+  bool has_history = false;
+  ReuseDebug debug;
+
+  // Primary hits of chain `s` of this frame, empty reservoirs.
+  void begin_frame(const RenderContext& ctx, const FrameInfo& frame, int s) {
+    build_gbuffer(ctx, *frame.camera, frame.index, s, gbuffer);
+    reservoirs.assign(gbuffer.pixels.size(), restir::Reservoir<Sample>{});
+    debug.reset(reservoirs.size());
+  }
+  // Temporal reuse (when there is a compatible history), then the spatial rounds.
+  template <class MakeBridge>
+  void reuse(const ReuseOptions& rp, const FrameInfo& frame, const MakeBridge& make_bridge, uint64_t seed, int s) {
+    const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
+    const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
+    if (rp.temporal && has_history && previous_gbuffer.width == gbuffer.width && previous_gbuffer.height == gbuffer.height)
+      temporal_pass(rp, gbuffer, previous_gbuffer, prev_cam, reservoirs, previous, make_bridge, f, seed, chain, debug);
+    spatial_passes(rp, gbuffer, reservoirs, make_bridge, f, seed, chain, debug);
+  }
+  // Keeps this frame's reservoirs and surfaces for the next frame's temporal reuse.
+  void end_frame() {
+    previous.swap(reservoirs);
+    std::swap(previous_gbuffer, gbuffer);
+    has_history = true;
+  }
+};
+
+// Renders every chain (render_chain(s, chain, sum) adds chain s's radiance to sum) and averages.
+template <class Chain, class RenderChain>
+void render_chains(std::vector<Chain>& chains, int spp, Image& out, const RenderChain& render_chain) {
+  if (int(chains.size()) != spp) chains.assign(size_t(spp), Chain{});
+  std::vector<Rgb> sum(out.size(), Rgb(0));
+  for (int s = 0; s < spp; ++s) render_chain(s, chains[size_t(s)], sum);
+  for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(spp);
+}
+
 }  // namespace rl
