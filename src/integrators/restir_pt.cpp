@@ -3,6 +3,9 @@
 // from neighbouring pixels through a shift mapping (reconnection, random replay or hybrid; see
 // pt_path.h), then shaded with one path. The reference is the path tracer with path.max_depth =
 // pt.max_depth (emission seen directly at the primary hit is added as is).
+#include <cstdio>
+#include <string>
+
 #include "integrators/pt_path.h"
 #include "integrators/reuse_passes.h"
 
@@ -90,7 +93,22 @@ class RestirPt final : public Integrator {
       sum[p] += L;
     });
 
+    if (o.render.debug_view == DebugView::reconnection_depth) print_depth_histogram(frame.index, s, c);
     c.end_frame();
+  }
+
+  // The reconnection-depth debug view also prints its histogram (k = 0: no reconnection).
+  static void print_depth_histogram(int frame, int chain, const Chain& c) {
+    std::vector<size_t> count;
+    for (const PathReservoir& r : c.reservoirs) {
+      const size_t k = r.has_sample() ? size_t(r.sample.rc) : 0;
+      if (count.size() <= k) count.resize(k + 1, 0);
+      ++count[k];
+    }
+    std::string line = "restir-pt frame " + std::to_string(frame) + " chain " + std::to_string(chain) + ": reconnection depth histogram";
+    for (size_t k = 0; k < count.size(); ++k)
+      if (count[k]) line += " k=" + std::to_string(k) + ":" + std::to_string(count[k]);
+    std::fprintf(stderr, "%s\n", line.c_str());
   }
 
   RenderContext ctx_;
