@@ -105,16 +105,22 @@ class RestirGi final : public Integrator {
     GiSample x;
     x.radiance = radiance;
     Hit hit;
+    float pdf = bs.pdf;
     if (ctx_.accel.intersect(ray, hit)) {
       const SurfaceInteraction si = ctx_.accel.interaction(ray, hit);
       x.position = si.p;
       x.normal = si.ng;
+      // The sample is valued along the direction from the visible point to x_s (as every shift
+      // sees it), so its density is taken there too: the traced ray left from an offset origin, and
+      // near contact (x_s within a few epsilons) the two directions differ enough to bias f/p.
+      const Vec3 wi_pos = normalize(si.p - s.p);
+      pdf = bsdf_pdf(s.bsdf, s.frame.to_local(s.wo), s.frame.to_local(wi_pos));
     } else {
       x.infinite = true;
       x.position = wi;
     }
     const float t = gi_target(ctx_, ctx_.options.gi.target, s, x, false);  // visible: it was traced
-    restir::stream(r, x, t, t / bs.pdf, rng.next_float());
+    if (pdf > 0) restir::stream(r, x, t, t / pdf, rng.next_float());
     restir::finalize(r);
     return r;
   }
