@@ -216,7 +216,7 @@ TEST_CASE("flip: black against white is close to 1 everywhere, and matches the h
   // 0.4 cmax = 16.51, so the error is 0.95 + 0.05 (25.12 - 16.51) / (cmax - 16.51) = 0.96738
   // (cmax = 203.30^0.7 = 41.276). Computed independently in Python with the same constants.
   const double expected = 0.9673797614921327;
-  CHECK(constant_pair_error(Rgb(0.0f), Rgb(1.0f)) == doctest::Approx(expected).epsilon(1e-9));
+  CHECK(constant_pair_error(Rgb(0.0f), Rgb(1.0f)) == doctest::Approx(expected).epsilon(1e-9).scale(1e-9));
   double lo = 1, hi = 0;
   for (const Rgb& p : m.pixels) {
     lo = std::min(lo, double(p.x));
@@ -225,8 +225,8 @@ TEST_CASE("flip: black against white is close to 1 everywhere, and matches the h
     REQUIRE(p.x == p.z);
   }
   CHECK(lo > 0.95);
-  CHECK(lo == doctest::Approx(expected).epsilon(1e-6));
-  CHECK(hi == doctest::Approx(expected).epsilon(1e-6));
+  CHECK(lo == doctest::Approx(expected).epsilon(1e-6).scale(1e-9));
+  CHECK(hi == doctest::Approx(expected).epsilon(1e-6).scale(1e-9));
 }
 
 TEST_CASE("flip: constant image pairs equal the colour pipeline's remapped HyAB value") {
@@ -249,12 +249,12 @@ TEST_CASE("flip: constant image pairs equal the colour pipeline's remapped HyAB 
     const double expected = constant_pair_error(p.a, p.b);
     const Image ia(20, 12, p.a), ib(20, 12, p.b);
     const Image m = flip_error_map(ia, ib);
-    for (const Rgb& px : m.pixels) REQUIRE(double(px.x) == doctest::Approx(expected).epsilon(1e-5));
-    CHECK(mean_flip(ia, ib) == doctest::Approx(expected).epsilon(1e-5));
+    for (const Rgb& px : m.pixels) REQUIRE(double(px.x) == doctest::Approx(expected).epsilon(1e-5).scale(1e-9));
+    CHECK(mean_flip(ia, ib) == doctest::Approx(expected).epsilon(1e-5).scale(1e-9));
   }
   CHECK(constant_pair_error(Rgb(0.5f), Rgb(0.52f)) < 0.95);
   CHECK(constant_pair_error(Rgb(0.1f, 0.1f, 0.9f), Rgb(0.9f, 0.9f, 0.1f)) > 0.95);
-  CHECK(mean_flip(Image(8, 8, Rgb(0, 1, 0)), Image(8, 8, Rgb(0, 0, 1))) == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(mean_flip(Image(8, 8, Rgb(0, 1, 0)), Image(8, 8, Rgb(0, 0, 1))) == doctest::Approx(1.0).epsilon(1e-6).scale(1e-9));
 }
 
 TEST_CASE("flip: the separable implementation matches a brute-force one with the paper's 2-D kernels") {
@@ -274,7 +274,7 @@ TEST_CASE("flip: the separable implementation matches a brute-force one with the
     mean /= double(bf.size());
     CHECK(max_diff < 2e-6);
     CHECK(mean > 0.05);  // the pair really differs: the comparison is not of two zeros
-    CHECK(mean_flip(test, ref, ppd) == doctest::Approx(mean).epsilon(1e-5));
+    CHECK(mean_flip(test, ref, ppd) == doctest::Approx(mean).epsilon(1e-5).scale(1e-9));
   }
 }
 
@@ -394,16 +394,16 @@ TEST_CASE("flip: a finer angular resolution hides high-frequency differences") {
   const float mean_srgb = srgb_encode(0.5f * (srgb_decode(0.4f) + srgb_decode(0.6f)));
   const double floor = constant_pair_error(Rgb(0.5f), Rgb(mean_srgb));
   CHECK(floor > 0.05);
-  CHECK(interior_error(0.6f, 134) == doctest::Approx(floor).epsilon(0.01));
+  CHECK(interior_error(0.6f, 134) == doctest::Approx(floor).epsilon(0.01).scale(1e-9));
   CHECK(interior_error(0.6f, 10) > 5 * floor);
 }
 
 TEST_CASE("flip: pixels per degree from viewing conditions") {
   // Paper: 0.7 m from a 0.7 m wide 3840-pixel monitor -> 67.02 pixels per degree.
-  CHECK(flip_pixels_per_degree() == doctest::Approx(67.0206).epsilon(1e-5));
-  CHECK(flip_pixels_per_degree(0.7f, 0.7f, 3840) == doctest::Approx(3840.0 * kPiD / 180.0).epsilon(1e-6));
-  CHECK(flip_pixels_per_degree(1.4f, 0.7f, 3840) == doctest::Approx(2 * 67.0206).epsilon(1e-5));
-  CHECK(flip_pixels_per_degree(0.7f, 0.7f, 1920) == doctest::Approx(0.5 * 67.0206).epsilon(1e-5));
+  CHECK(flip_pixels_per_degree() == doctest::Approx(67.0206).epsilon(1e-5).scale(1e-9));
+  CHECK(flip_pixels_per_degree(0.7f, 0.7f, 3840) == doctest::Approx(3840.0 * kPiD / 180.0).epsilon(1e-6).scale(1e-9));
+  CHECK(flip_pixels_per_degree(1.4f, 0.7f, 3840) == doctest::Approx(2 * 67.0206).epsilon(1e-5).scale(1e-9));
+  CHECK(flip_pixels_per_degree(0.7f, 0.7f, 1920) == doctest::Approx(0.5 * 67.0206).epsilon(1e-5).scale(1e-9));
   CHECK_THROWS_AS(flip_pixels_per_degree(0.0f), std::invalid_argument);
   CHECK_THROWS_AS(flip_pixels_per_degree(0.7f, -1.0f), std::invalid_argument);
   CHECK_THROWS_AS(flip_pixels_per_degree(0.7f, 0.7f, 0), std::invalid_argument);

@@ -280,7 +280,7 @@ TEST_CASE("EXR layouts written by OpenEXR's RGBA writer: half RGBA (DWAB, PIZ), 
       Rgb p = back.at(x, 3);
       CHECK(p.x == p.y);
       CHECK(p.y == p.z);
-      CHECK(p.x == doctest::Approx(luminance(img.at(x, 3))).epsilon(2e-3));
+      CHECK(p.x == doctest::Approx(luminance(img.at(x, 3))).epsilon(2e-3).scale(1e-9));
     }
   }
   SUBCASE("luminance/chroma: converted back to RGB") {
@@ -370,18 +370,18 @@ TEST_CASE("reading a missing, malformed, truncated or unsupported file throws wi
 
 TEST_CASE("sRGB transfer: known values and inverse") {
   CHECK(srgb_encode(0.f) == 0.f);
-  CHECK(srgb_encode(1.f) == doctest::Approx(1.f).epsilon(1e-6));
-  CHECK(srgb_encode(0.5f) == doctest::Approx(0.735357f).epsilon(1e-5));
+  CHECK(srgb_encode(1.f) == doctest::Approx(1.f).epsilon(1e-6).scale(1e-9));
+  CHECK(srgb_encode(0.5f) == doctest::Approx(0.735357f).epsilon(1e-5).scale(1e-9));
   // The knee: both pieces meet at linear 0.0031308 <-> encoded 0.04045 (continuity).
-  CHECK(srgb_encode(0.0031308f) == doctest::Approx(0.04045f).epsilon(1e-4));
-  CHECK(1.055f * std::pow(0.0031308f, 1.f / 2.4f) - 0.055f == doctest::Approx(0.04045f).epsilon(1e-3));
-  CHECK(srgb_encode(0.001f) == doctest::Approx(0.01292f).epsilon(1e-6));  // linear segment
-  CHECK(srgb_decode(0.04045f) == doctest::Approx(0.0031308f).epsilon(1e-4));
-  CHECK(srgb_decode(0.735357f) == doctest::Approx(0.5f).epsilon(1e-5));
+  CHECK(srgb_encode(0.0031308f) == doctest::Approx(0.04045f).epsilon(1e-4).scale(1e-9));
+  CHECK(1.055f * std::pow(0.0031308f, 1.f / 2.4f) - 0.055f == doctest::Approx(0.04045f).epsilon(1e-3).scale(1e-9));
+  CHECK(srgb_encode(0.001f) == doctest::Approx(0.01292f).epsilon(1e-6).scale(1e-9));  // linear segment
+  CHECK(srgb_decode(0.04045f) == doctest::Approx(0.0031308f).epsilon(1e-4).scale(1e-9));
+  CHECK(srgb_decode(0.735357f) == doctest::Approx(0.5f).epsilon(1e-5).scale(1e-9));
   for (int i = 0; i <= 1000; ++i) {
     float v = float(i) / 1000.f;
-    CHECK(srgb_decode(srgb_encode(v)) == doctest::Approx(v).epsilon(1e-5).scale(1e-6));
-    CHECK(srgb_encode(srgb_decode(v)) == doctest::Approx(v).epsilon(1e-5).scale(1e-6));
+    CHECK(srgb_decode(srgb_encode(v)) == doctest::Approx(v).epsilon(1e-5).scale(1e-9).scale(1e-6));
+    CHECK(srgb_encode(srgb_decode(v)) == doctest::Approx(v).epsilon(1e-5).scale(1e-9).scale(1e-6));
     if (i > 0) CHECK(srgb_encode(v) > srgb_encode(float(i - 1) / 1000.f));
   }
 }
@@ -433,7 +433,7 @@ TEST_CASE("tone mapper known values") {
   SUBCASE("modified Reinhard: L = white point -> 1") {
     for (float lw : {1.f, 2.f, 4.f, 11.2f}) {
       OutputOptions o = opts(Tonemap::modified_reinhard, 0, false, lw);
-      CHECK(tonemap_pixel(Rgb(lw), o).y == doctest::Approx(1.f).epsilon(1e-6));
+      CHECK(tonemap_pixel(Rgb(lw), o).y == doctest::Approx(1.f).epsilon(1e-6).scale(1e-9));
       CHECK(tonemap_pixel(Rgb(0.9f * lw), o).y < 0.9999f);
       CHECK(tonemap_pixel(Rgb(1.5f * lw), o).y == 1.f);
       // eq. 4 at L = 1: (1 + 1/lw^2) / 2
@@ -444,7 +444,7 @@ TEST_CASE("tone mapper known values") {
     OutputOptions o = opts(Tonemap::aces);
     CHECK(tonemap_pixel(Rgb(0.f), o) == Rgb(0.f));
     float at1 = tonemap_pixel(Rgb(1.f), o).x;
-    CHECK(at1 == doctest::Approx(2.54 / 3.16).epsilon(1e-5));  // (2.51 + 0.03) / (2.43 + 0.59 + 0.14)
+    CHECK(at1 == doctest::Approx(2.54 / 3.16).epsilon(1e-5).scale(1e-9));  // (2.51 + 0.03) / (2.43 + 0.59 + 0.14)
     CHECK(tonemap_pixel(Rgb(5.f), o).x > 0.98f);
     CHECK(tonemap_pixel(Rgb(5.f), o).x < 1.f);
     CHECK(tonemap_pixel(Rgb(1e6f), o).x == 1.f);
@@ -481,13 +481,13 @@ TEST_CASE("metrics: identical images, constant offsets, hand-computed relMSE") {
   for (float d : {0.5f, -0.25f, 3.f}) {
     Image test = ref;
     for (auto& p : test.pixels) p += Rgb(d);
-    CHECK(mse(test, ref) == doctest::Approx(double(d) * d).epsilon(1e-5));
-    CHECK(mean_abs_error(test, ref) == doctest::Approx(std::fabs(d)).epsilon(1e-5));
+    CHECK(mse(test, ref) == doctest::Approx(double(d) * d).epsilon(1e-5).scale(1e-9));
+    CHECK(mean_abs_error(test, ref) == doctest::Approx(std::fabs(d)).epsilon(1e-5).scale(1e-9));
   }
   // Offset on one channel of one pixel only: the mean runs over pixels AND channels.
   Image one = ref;
   one.at(2, 1).y += 3.f;
-  CHECK(mse(one, ref) == doctest::Approx(9.0 / (3 * 24)).epsilon(1e-5));
+  CHECK(mse(one, ref) == doctest::Approx(9.0 / (3 * 24)).epsilon(1e-5).scale(1e-9));
 
   // pbrt-v4 Image::MRSE: (t - r)^2 / (r + 0.01)^2, mean over pixels and channels.
   Image r2(2, 1), t2(2, 1);
@@ -497,10 +497,10 @@ TEST_CASE("metrics: identical images, constant offsets, hand-computed relMSE") {
   t2.at(1, 0) = Rgb(2.f, 3.f, 0.f);
   double terms = 0.25 / (1.01 * 1.01) + 0.01 / (0.01 * 0.01) + 0.0 + 0.0 + 1.0 / (4.01 * 4.01) +
                  0.0625 / (0.26 * 0.26);
-  CHECK(rel_mse(t2, r2) == doctest::Approx(terms / 6).epsilon(1e-6));
+  CHECK(rel_mse(t2, r2) == doctest::Approx(terms / 6).epsilon(1e-6).scale(1e-9));
   // eps is a parameter: eps = 1 gives another known value.
   double terms1 = 0.25 / 4.0 + 0.01 / 1.0 + 1.0 / 25.0 + 0.0625 / (1.25 * 1.25);
-  CHECK(rel_mse(t2, r2, 1.0) == doctest::Approx(terms1 / 6).epsilon(1e-6));
+  CHECK(rel_mse(t2, r2, 1.0) == doctest::Approx(terms1 / 6).epsilon(1e-6).scale(1e-9));
   // relMSE is not symmetric: the reference is the denominator.
   CHECK(rel_mse(r2, t2) != doctest::Approx(rel_mse(t2, r2)));
 }

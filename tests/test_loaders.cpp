@@ -245,8 +245,8 @@ TEST_CASE("pbrt: camera animation, lights, spheres, instances, materials") {
   CHECK(s.spheres[0].flip_normal);
   REQUIRE(s.spheres[0].emission);
   CHECK(s.spheres[0].emission->two_sided);
-  CHECK(luminance(s.spheres[0].emission->radiance) == doctest::Approx(3).epsilon(1e-3));
-  CHECK(s.spheres[0].emission->radiance.x / s.spheres[0].emission->radiance.z == doctest::Approx(1).epsilon(0.1));
+  CHECK(luminance(s.spheres[0].emission->radiance) == doctest::Approx(3).epsilon(1e-3).scale(1e-9));
+  CHECK(s.spheres[0].emission->radiance.x / s.spheres[0].emission->radiance.z == doctest::Approx(1).epsilon(0.1).scale(1e-9));
   REQUIRE(s.meshes.size() == 3);
   CHECK(near(s.meshes[0].positions[1], Vec3(11, 0, 0)));
   CHECK(near(s.meshes[1].positions[1], Vec3(21, 0, 0)));
@@ -535,9 +535,9 @@ TEST_CASE("gltf: embedded buffer, node transform, material, emission, camera") {
 
 TEST_CASE("pbrt: blackbody and named spectra helpers") {
   Rgb w = pbrt::blackbody_rgb(6500);
-  CHECK(luminance(w) == doctest::Approx(1).epsilon(1e-4));
-  CHECK(w.x == doctest::Approx(1).epsilon(0.1));
-  CHECK(w.z == doctest::Approx(1).epsilon(0.1));
+  CHECK(luminance(w) == doctest::Approx(1).epsilon(1e-4).scale(1e-9));
+  CHECK(w.x == doctest::Approx(1).epsilon(0.1).scale(1e-9));
+  CHECK(w.z == doctest::Approx(1).epsilon(0.1).scale(1e-9));
   Rgb warm = pbrt::blackbody_rgb(2700);
   CHECK(warm.x > warm.z * 2);
   CHECK(pbrt::named_spectrum_rgb("metal-Ag-k").has_value());

@@ -15,7 +15,7 @@ TEST_SUITE("path_tracer") {
     Options o = options_for(scene, {"film.width=32", "film.height=32", "render.spp=16"});
     CHECK(o.path.max_depth == 65);  // from the scene's Integrator directive
     RenderResult r = render(scene, o);
-    for (int c = 0; c < 3; ++c) CHECK(mean_channel(r.last, c) == doctest::Approx(2.0).epsilon(0.01));
+    for (int c = 0; c < 3; ++c) CHECK(mean_channel(r.last, c) == doctest::Approx(2.0).epsilon(0.01).scale(1e-9));
   }
 
   TEST_CASE("furnace: small depths give the geometric series sum_{i<=d} 0.5^i exactly in expectation") {
@@ -29,7 +29,7 @@ TEST_SUITE("path_tracer") {
         const double expected = 2.0 - std::pow(0.5, depth);
         CAPTURE(depth);
         CAPTURE(nee);
-        CHECK(mean_channel(r.last, 1) == doctest::Approx(expected).epsilon(0.004));
+        CHECK(mean_channel(r.last, 1) == doctest::Approx(expected).epsilon(0.004).scale(1e-9));
       }
     }
   }
@@ -38,7 +38,7 @@ TEST_SUITE("path_tracer") {
     Scene scene = load_scene(shared_scene("furnace.pbrt"));
     Options o = options_for(scene, {"film.width=32", "film.height=32", "render.spp=32", "path.bsdf_sampling=false",
                                     "path.max_depth=3", "path.russian_roulette=false"});
-    CHECK(mean_channel(render(scene, o).last, 0) == doctest::Approx(1.875).epsilon(0.004));
+    CHECK(mean_channel(render(scene, o).last, 0) == doctest::Approx(1.875).epsilon(0.004).scale(1e-9));
   }
 
   TEST_CASE("the image does not depend on the thread count") {
@@ -84,12 +84,12 @@ TEST_SUITE("path_tracer") {
       Ray r = cam.generate_ray(px);
       Vec2 back;
       REQUIRE(cam.project(r.o + r.d * 5.0f, back));
-      CHECK(back.x == doctest::Approx(px.x).epsilon(1e-3));
-      CHECK(back.y == doctest::Approx(px.y).epsilon(1e-3));
+      CHECK(back.x == doctest::Approx(px.x).epsilon(1e-3).scale(1e-9));
+      CHECK(back.y == doctest::Approx(px.y).epsilon(1e-3).scale(1e-9));
     }
     // Top and bottom edge rays are 40 degrees apart (height is the shorter axis).
     Ray top = cam.generate_ray({32, 0}), bottom = cam.generate_ray({32, 32});
-    CHECK(std::acos(dot(top.d, bottom.d)) * 180 / kPi == doctest::Approx(40).epsilon(1e-3));
+    CHECK(std::acos(dot(top.d, bottom.d)) * 180 / kPi == doctest::Approx(40).epsilon(1e-3).scale(1e-9));
   }
 }
 
@@ -106,9 +106,9 @@ TEST_SUITE("slow") {
     Image bsdf_only = run({"path.nee=false"}, 2048), cosine = run({"path.bsdf_sampling=false"}, 256);
     for (int c = 0; c < 3; ++c) {
       double ref = mean_channel(mis, c);
-      CHECK(mean_channel(bal, c) == doctest::Approx(ref).epsilon(0.02));
-      CHECK(mean_channel(bsdf_only, c) == doctest::Approx(ref).epsilon(0.03));
-      CHECK(mean_channel(cosine, c) == doctest::Approx(ref).epsilon(0.02));
+      CHECK(mean_channel(bal, c) == doctest::Approx(ref).epsilon(0.02).scale(1e-9));
+      CHECK(mean_channel(bsdf_only, c) == doctest::Approx(ref).epsilon(0.03).scale(1e-9));
+      CHECK(mean_channel(cosine, c) == doctest::Approx(ref).epsilon(0.02).scale(1e-9));
     }
   }
 }

@@ -59,7 +59,7 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
     float j_same = 0;
     if (shift_path(*fx.ctx, ps, base, a, same, j_same)) {
       ++identity;
-      CHECK(j_same == doctest::Approx(1).epsilon(1e-3));
+      CHECK(j_same == doctest::Approx(1).epsilon(1e-3).scale(1e-9));
       CHECK(close_rgb(same.contribution, base.contribution, 2e-3f));
     }
     PathSample there, back;
@@ -67,9 +67,9 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
     if (!shift_path(*fx.ctx, ps, base, b, there, j1)) continue;
     REQUIRE(shift_path(*fx.ctx, ps, there, a, back, j2));  // invertible where defined
     ++checked;
-    CHECK(j1 * j2 == doctest::Approx(1).epsilon(2e-3));
+    CHECK(j1 * j2 == doctest::Approx(1).epsilon(2e-3).scale(1e-9));
     CHECK(close_rgb(back.contribution, base.contribution, 5e-3f));
-    CHECK(back.replay_pdf == doctest::Approx(base.replay_pdf).epsilon(5e-3));
+    CHECK(back.replay_pdf == doctest::Approx(base.replay_pdf).epsilon(5e-3).scale(1e-9));
     CHECK(length(back.rc_previous - base.rc_previous) < 1e-3f * std::max(1.0f, length(base.rc_previous)));
   }
   CHECK(identity > 0);
@@ -99,7 +99,7 @@ TEST_SUITE("restir_pt") {
       const double fd = double(length(cross(dya, dyb)));  // d(solid angle) of ω_x per unit (a, b) is 1 at the centre
       const double analytic = restir::reconnection_jacobian(x_prev, y_prev, xk, nk);
       CAPTURE(t);
-      CHECK(fd == doctest::Approx(analytic).epsilon(0.01));
+      CHECK(fd == doctest::Approx(analytic).epsilon(0.01).scale(1e-9));
     }
   }
 
@@ -186,7 +186,7 @@ TEST_SUITE("slow") {
     const double pt = corner({"integrator=pt", "path.max_depth=2", "render.spp=40000"});
     const double gi = corner({"integrator=restir-gi", "gi.max_depth=2", "gi.temporal=false", "gi.spatial_neighbors=0",
                               "render.spp=1", "render.frames=40000"});
-    CHECK(gi == doctest::Approx(pt).epsilon(0.015));
+    CHECK(gi == doctest::Approx(pt).epsilon(0.015).scale(1e-9));
   }
 
   TEST_CASE("ReSTIR PT converges to the path tracer for every shift (rough and glossy scenes)") {

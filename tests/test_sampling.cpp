@@ -33,22 +33,22 @@ TEST_CASE("sampling: chi-square test machinery rejects a wrong pdf") {
   auto r2 = stat::sphere_chi2([](Pcg32& rng, Vec3& w) { w = sample_uniform_hemisphere(rng.next_2d()); return true; },
                               [](Vec3 w) { return w.z > 0 ? (w.x > 0 ? 1.03 : 0.97) * kInv2Pi : 0.0; }, 200000, 2);
   CHECK(r2.result.p < 1e-4);
-  CHECK(stat::chi2_pvalue(3.84, 1) == doctest::Approx(0.05).epsilon(0.01));
-  CHECK(stat::chi2_pvalue(18.307, 10) == doctest::Approx(0.05).epsilon(0.01));
-  CHECK(stat::chi2_pvalue(124.342, 100) == doctest::Approx(0.05).epsilon(0.01));
+  CHECK(stat::chi2_pvalue(3.84, 1) == doctest::Approx(0.05).epsilon(0.01).scale(1e-9));
+  CHECK(stat::chi2_pvalue(18.307, 10) == doctest::Approx(0.05).epsilon(0.01).scale(1e-9));
+  CHECK(stat::chi2_pvalue(124.342, 100) == doctest::Approx(0.05).epsilon(0.01).scale(1e-9));
 }
 
 TEST_CASE("sampling: cosine hemisphere matches cosine_hemisphere_pdf") {
   auto r = stat::sphere_chi2([](Pcg32& rng, Vec3& w) { w = sample_cosine_hemisphere(rng.next_2d()); return w.z > 0; },
                              [](Vec3 w) { return double(cosine_hemisphere_pdf(w.z)); }, 200000, 11);
-  CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(1e-3));
+  CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(1e-3).scale(1e-9));
   check_chi2(r.result);
 }
 
 TEST_CASE("sampling: uniform sphere and hemisphere") {
   auto r = stat::sphere_chi2([](Pcg32& rng, Vec3& w) { w = sample_uniform_sphere(rng.next_2d()); return true; },
                              [](Vec3) { return double(uniform_sphere_pdf()); }, 200000, 12);
-  CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(1e-3));
+  CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(1e-3).scale(1e-9));
   check_chi2(r.result);
   auto h = stat::sphere_chi2([](Pcg32& rng, Vec3& w) { w = sample_uniform_hemisphere(rng.next_2d()); return true; },
                              [](Vec3 w) { return w.z > 0 ? double(uniform_hemisphere_pdf()) : 0.0; }, 200000, 13);
@@ -62,14 +62,14 @@ TEST_CASE("sampling: uniform cone") {
     auto r = stat::sphere_chi2(
         [&](Pcg32& rng, Vec3& w) { w = sample_uniform_cone(rng.next_2d(), cos_max); return true; },
         [&](Vec3 w) { return w.z >= cos_max ? double(uniform_cone_pdf(cos_max)) : 0.0; }, 200000, 14, grid, 16);
-    CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(3e-3));
+    CHECK(r.pdf_integral == doctest::Approx(1.0).epsilon(3e-3).scale(1e-9));
     check_chi2(r.result);
     // Every sample lies inside the cone and is a unit vector.
     Pcg32 rng(3);
     for (int i = 0; i < 1000; ++i) {
       Vec3 w = sample_uniform_cone(rng.next_2d(), cos_max);
       CHECK(w.z >= cos_max - 1e-6f);
-      CHECK(length(w) == doctest::Approx(1.0f).epsilon(1e-5));
+      CHECK(length(w) == doctest::Approx(1.0f).epsilon(1e-5).scale(1e-9));
     }
   }
 }
@@ -129,7 +129,7 @@ TEST_CASE("sampling: alias table frequencies match the weights, zero weights nev
     table.sample(rng.next_float(), nullptr, &ur);
     sum += ur;
   }
-  CHECK(sum / 100000 == doctest::Approx(0.5).epsilon(0.01));
+  CHECK(sum / 100000 == doctest::Approx(0.5).epsilon(0.01).scale(1e-9));
 }
 
 TEST_CASE("sampling: Distribution1D histogram matches its pdf") {
@@ -171,12 +171,12 @@ TEST_CASE("sampling: Distribution2D histogram matches its pdf") {
       integral += p;
       if (f[size_t(v * nu + u)] == 0) CHECK(p == 0);
     }
-  CHECK(integral == doctest::Approx(1.0).epsilon(1e-4));
+  CHECK(integral == doctest::Approx(1.0).epsilon(1e-4).scale(1e-9));
   for (int i = 0; i < n; ++i) {
     float pdf;
     Vec2 p = d.sample_continuous(rng.next_2d(), &pdf);
     REQUIRE((p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1));
-    CHECK(pdf == doctest::Approx(d.pdf(p)).epsilon(1e-4));
+    CHECK(pdf == doctest::Approx(d.pdf(p)).epsilon(1e-4).scale(1e-9));
     observed[size_t(std::min(int(p.y * nv), nv - 1) * nu + std::min(int(p.x * nu), nu - 1))] += 1;
   }
   check_chi2(stat::chi2_test(observed, expected));

@@ -121,11 +121,11 @@ TEST_CASE("scenes: cornell-box") {
   CHECK(light->triangle_count() == 2);
   // The light is at the ceiling and emits downwards.
   for (uint32_t t = 0; t < 2; ++t) CHECK(triangle_normal(*light, t).y < -0.99f);
-  CHECK(mesh_area(*light) == doctest::Approx(1.3 * 1.05).epsilon(1e-3));
+  CHECK(mesh_area(*light) == doctest::Approx(1.3 * 1.05).epsilon(1e-3).scale(1e-9));
   Bounds3 b = s.bounds();
-  CHECK(b.diagonal().x == doctest::Approx(5.56).epsilon(1e-3));
-  CHECK(b.diagonal().y == doctest::Approx(5.488).epsilon(1e-3));
-  CHECK(b.diagonal().z == doctest::Approx(5.592).epsilon(1e-3));
+  CHECK(b.diagonal().x == doctest::Approx(5.56).epsilon(1e-3).scale(1e-9));
+  CHECK(b.diagonal().y == doctest::Approx(5.488).epsilon(1e-3).scale(1e-9));
+  CHECK(b.diagonal().z == doctest::Approx(5.592).epsilon(1e-3).scale(1e-9));
   bool has_conductor = false;
   for (const auto& m : s.materials) has_conductor |= m.type == Material::Type::conductor && m.alpha_x > 0.05f;
   CHECK(has_conductor);
@@ -190,7 +190,7 @@ TEST_CASE("scenes: teapot PLY has outward unit normals from the patch derivative
   const size_t tris = ply.indices.size() / 3;
   CHECK(tris == 9120);  // 32 patches x 12 x 12 x 2 minus the zero-area triangles at the poles
   REQUIRE(ply.normals.size() == ply.positions.size());
-  for (Vec3 n : ply.normals) REQUIRE(length(n) == doctest::Approx(1.0f).epsilon(1e-4));
+  for (Vec3 n : ply.normals) REQUIRE(length(n) == doctest::Approx(1.0f).epsilon(1e-4).scale(1e-9));
   size_t agree = 0;
   for (size_t t = 0; t < tris; ++t) {
     uint32_t i0 = ply.indices[3 * t], i1 = ply.indices[3 * t + 1], i2 = ply.indices[3 * t + 2];
@@ -214,8 +214,8 @@ TEST_CASE("scenes: teapot PLY has outward unit normals from the patch derivative
   // Z-up data, base at z = 0, lid knob at 3.15.
   Bounds3 b;
   for (Vec3 p : ply.positions) b.extend(p);
-  CHECK(b.lo.z == doctest::Approx(0).epsilon(1e-4));
-  CHECK(b.hi.z == doctest::Approx(3.15).epsilon(1e-4));
+  CHECK(b.lo.z == doctest::Approx(0).epsilon(1e-4).scale(1e-9));
+  CHECK(b.hi.z == doctest::Approx(3.15).epsilon(1e-4).scale(1e-9));
 }
 
 TEST_CASE("scenes: teapot") {
@@ -231,8 +231,8 @@ TEST_CASE("scenes: teapot") {
   for (int i : teapots) {
     Bounds3 b;
     for (Vec3 p : s.meshes[i].positions) b.extend(p);
-    CHECK(b.lo.y == doctest::Approx(0).epsilon(1e-3));
-    CHECK(b.diagonal().y == doctest::Approx(3.15 * 0.3).epsilon(1e-3));
+    CHECK(b.lo.y == doctest::Approx(0).epsilon(1e-3).scale(1e-9));
+    CHECK(b.diagonal().y == doctest::Approx(3.15 * 0.3).epsilon(1e-3).scale(1e-9));
   }
   // One of each: glossy conductor, rough conductor, smooth glass, rough glass, diffuse.
   int glossy = 0, rough = 0, glass = 0, rough_glass = 0, diffuse = 0;
@@ -316,14 +316,14 @@ TEST_CASE("scenes: env-object") {
   CHECK(env.image.width == 2 * env.image.height);
   // Rotate -90 about x: the map's +z (its top) is the world's +y.
   Vec3 up = env.world_from_light.apply_vector(Vec3{0, 0, 1});
-  CHECK(up.y == doctest::Approx(1.0f).epsilon(1e-4));
+  CHECK(up.y == doctest::Approx(1.0f).epsilon(1e-4).scale(1e-9));
   int teapot = -1;
   for (size_t i = 0; i < s.meshes.size(); ++i)
     if (is_teapot(s.meshes[i])) teapot = int(i);
   REQUIRE(teapot >= 0);
   Bounds3 tb;
   for (Vec3 p : s.meshes[teapot].positions) tb.extend(p);
-  CHECK(tb.lo.y == doctest::Approx(0.6).epsilon(1e-3));  // on the pedestal
+  CHECK(tb.lo.y == doctest::Approx(0.6).epsilon(1e-3).scale(1e-9));  // on the pedestal
   Accel accel(s);
   View v = look(s, accel, s.camera.keys.at(0), 640, 360);
   CHECK(v.per_mesh[teapot] > v.rays / 20);
