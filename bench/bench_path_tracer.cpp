@@ -11,6 +11,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "bench_common.h"
 #include "core/parallel.h"
 #include "integrators/path_tracer.h"
 #include "integrators/render.h"
@@ -118,9 +119,7 @@ int main(int argc, char** argv) {
       frame_s.push_back(run_frame(ctx, cam, false).seconds);
       embree_s.push_back(replay(accel, rec.rays, rec.shadow_rays));
     }
-    std::sort(frame_s.begin(), frame_s.end());
-    std::sort(embree_s.begin(), embree_s.end());
-    double tf = frame_s[frame_s.size() / 2], te = embree_s[embree_s.size() / 2];
+    const double tf = bench::median(frame_s), te = bench::median(embree_s);
     double rays = double(rec.stats.rays + rec.stats.shadow_rays);
     double samples = double(width) * height * spp;
     fmt::print("{:<12} {:>10.1f} {:>12.2f} {:>12.3f} {:>14.2f} {:>14.2f} {:>9.0f}%\n", name, tf * 1e3, rays / tf * 1e-6,

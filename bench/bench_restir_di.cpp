@@ -10,6 +10,7 @@
 
 #include <algorithm>
 
+#include "bench_common.h"
 #include "image/metrics.h"
 #include "integrators/render.h"
 #include "scene/loader.h"
@@ -50,18 +51,14 @@ int main(int argc, char** argv) {
   di.render.frames = frames;
   for (const auto& s : sets) set_option_assignment(di, s);
   RenderResult r_di = render(scene, di);
-  std::vector<double> ms = r_di.frame_ms;
-  std::sort(ms.begin() + 1, ms.end());  // frame 0 has no history; use the median of the rest
-  const double di_ms = ms.size() > 1 ? ms[1 + (ms.size() - 1) / 2] : ms[0];
+  // Frame 0 has no history: the median of the others (or frame 0 if it is the only one).
+  const double di_ms = bench::median(r_di.frame_ms, r_di.frame_ms.size() > 1 ? 1 : 0);
   const double di_err = rel_mse(r_di.last, reference);
 
   Options pt1 = base;
   pt1.render.spp = 1;
   pt1.render.frames = 3;
-  RenderResult r1 = render(scene, pt1);
-  std::vector<double> ms1 = r1.frame_ms;
-  std::sort(ms1.begin(), ms1.end());
-  const double pt_ms_per_spp = ms1[1];
+  const double pt_ms_per_spp = bench::median(render(scene, pt1).frame_ms);
   const int spp = std::max(1, int(std::lround(di_ms / pt_ms_per_spp)));
   Options pt = base;
   pt.render.spp = spp;

@@ -9,19 +9,12 @@
 
 #include <algorithm>
 
+#include "bench_common.h"
 #include "image/metrics.h"
 #include "integrators/render.h"
 #include "scene/loader.h"
 
 using namespace rl;
-
-namespace {
-double median_ms(std::vector<double> ms, size_t skip) {
-  if (ms.size() > skip) ms.erase(ms.begin(), ms.begin() + long(skip));
-  std::sort(ms.begin(), ms.end());
-  return ms[ms.size() / 2];
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ReSTIR PT shift mappings vs path tracing"};
@@ -53,7 +46,7 @@ int main(int argc, char** argv) {
     Options pt1 = base;
     pt1.render.spp = 1;
     pt1.render.frames = 3;
-    const double pt_ms_per_spp = median_ms(render(scene, pt1).frame_ms, 0);
+    const double pt_ms_per_spp = bench::median(render(scene, pt1).frame_ms, 0);
 
     fmt::print("\n{} at {}x{}, depth {}, reference {} spp\n", label, width, height, depth, reference_spp);
     fmt::print("{:<14} {:>10} {:>12} {:>14} {:>12} {:>10}\n", "shift", "ms/frame", "relMSE", "PT equal-time", "PT relMSE",
@@ -65,7 +58,7 @@ int main(int argc, char** argv) {
       o.render.frames = frames;
       set_option(o, "pt.shift", shift);
       RenderResult r = render(scene, o);
-      const double ms = median_ms(r.frame_ms, 1);
+      const double ms = bench::median(r.frame_ms, 1);
       const double err = rel_mse(r.last, reference);
       Options pt = base;
       pt.render.spp = std::max(1, int(std::lround(ms / pt_ms_per_spp)));

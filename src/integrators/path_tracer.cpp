@@ -76,8 +76,7 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
         Vec3 wi = frame.to_local(ls.wi);
         Rgb f = bsdf_eval(bsdf, wo, wi) * std::fabs(wi.z);
         if (!is_black(f)) {
-          Ray shadow = ls.distance >= kInfinity ? spawn_ray(si.p, si.ng, ls.wi, eps)
-                                                : spawn_ray_to(si.p, si.ng, ls.position, ls.normal, eps);
+          const Ray shadow = shadow_ray_to_light(si.p, si.ng, ls, eps);
           if (stats) {
             ++stats->shadow_rays;
             if (stats->record_shadow_rays) stats->record_shadow_rays->push_back(shadow);

@@ -24,6 +24,12 @@ struct PathStats {
 Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats = nullptr,
                   bool skip_first_emission = false);
 
+// Shadow ray from surface point p (geometric normal ng) to a light sample: toward its point, or
+// unbounded toward the environment. Both next-event estimators (path tracer, ReSTIR GI) use it.
+inline Ray shadow_ray_to_light(Vec3 p, Vec3 ng, const LightSample& ls, float eps) {
+  return ls.distance >= kInfinity ? spawn_ray(p, ng, ls.wi, eps) : spawn_ray_to(p, ng, ls.position, ls.normal, eps);
+}
+
 // Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);
 

@@ -136,9 +136,7 @@ class RestirGi final : public Integrator {
     const Vec3 wi_l = s.frame.to_local(ls.wi);
     const Rgb f = bsdf_eval(s.bsdf, s.frame.to_local(s.wo), wi_l) * std::fabs(wi_l.z);
     if (is_black(f)) return Rgb(0);
-    const float eps = ctx_.accel.ray_epsilon();
-    const Ray shadow = ls.distance >= kInfinity ? spawn_ray(s.p, s.ng, ls.wi, eps) : spawn_ray_to(s.p, s.ng, ls.position, ls.normal, eps);
-    return ctx_.accel.occluded(shadow) ? Rgb(0) : f * ls.radiance / ls.pdf;
+    return ctx_.accel.occluded(shadow_ray_to_light(s.p, s.ng, ls, ctx_.accel.ray_epsilon())) ? Rgb(0) : f * ls.radiance / ls.pdf;
   }
 
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
