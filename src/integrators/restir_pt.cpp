@@ -79,11 +79,8 @@ class RestirPt final : public Integrator {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& sf = g.at(x, y);
       Rgb dbg;
-      if (o.render.debug_view == DebugView::reconnection_depth) {
-        sum[p] += Rgb(c.reservoirs[p].has_sample() ? float(c.reservoirs[p].sample.rc) : 0.0f);
-        return;
-      }
-      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg)) {
+      const int rc = c.reservoirs[p].has_sample() ? c.reservoirs[p].sample.rc : 0;
+      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg, rc)) {
         sum[p] += dbg;
         return;
       }

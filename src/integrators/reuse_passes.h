@@ -31,14 +31,17 @@ struct ReuseDebug {
 inline constexpr int kMaxReuseNeighbors = 64;
 
 // The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
+// reconnection_depth: the final sample's reconnection vertex, for integrators that have one
+// (ReSTIR PT); the others reject that view when they are made.
 template <class Sample>
-bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const ReuseDebug& dbg, size_t p, Rgb& out) {
+bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const ReuseDebug& dbg, size_t p, Rgb& out,
+                      int reconnection_depth = 0) {
   switch (view) {
     case DebugView::none: return false;
     case DebugView::confidence: out = Rgb(r.confidence); return true;
     case DebugView::reuse_source: out = Rgb(float(dbg.source[p])); return true;
     case DebugView::rejected_shifts: out = Rgb(dbg.rejected_fraction(p)); return true;
-    case DebugView::reconnection_depth: return false;  // integrator-specific (restir-pt)
+    case DebugView::reconnection_depth: out = Rgb(float(reconnection_depth)); return true;
   }
   return false;
 }
