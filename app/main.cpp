@@ -13,7 +13,9 @@
 #include "integrators/integrator.h"
 #include "integrators/render.h"
 #include "scene/lights.h"
+#include "scene/camera.h"
 #include "scene/loader.h"
+#include "scene/mitsuba_export.h"
 #include "study/runner.h"
 #include "study/study_file.h"
 
@@ -113,6 +115,37 @@ int run_render(const RenderArgs& a) {
   return 0;
 }
 
+struct ExportArgs {
+  std::string scene, out, config;
+  std::vector<std::string> sets;
+};
+
+// The options a `render` of the same scene would use (scene hints < --config < --set), so that
+// resolution, spp, filter and max depth in the export are the effective ones.
+int run_export_mitsuba(const ExportArgs& a) {
+  Scene scene = load_scene(a.scene);
+  Options o;
+  apply_scene_hints(o, scene.hints);
+  if (!a.config.empty()) apply_options_file(o, a.config);
+  for (const auto& s : a.sets) set_option_assignment(o, s);
+  validate_options(o);
+  Camera camera = scene.camera;
+  if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
+  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
+  MitsubaExportSettings s;
+  s.width = o.film.width;
+  s.height = o.film.height;
+  s.spp = o.render.spp;
+  s.max_depth = o.path.max_depth;
+  s.filter = format_value(o.film.filter);
+  s.filter_radius = o.film.filter_radius;
+  s.camera = camera.at_frame(o.render.frames - 1, o.render.frames);  // the frame `render -o` writes
+  for (const std::string& n : export_mitsuba(scene, s, a.out)) std::fprintf(stderr, "note: %s\n", n.c_str());
+  fmt::print("{}/scene.xml: {}x{}, {} spp, Mitsuba max_depth {} (path.max_depth {})\n", a.out, s.width, s.height,
+             s.spp, s.max_depth + 1, s.max_depth);
+  return 0;
+}
+
 int run_info(const std::string& path) {
   Scene scene = load_scene(path);
   Lights lights(scene, LightSelection::power);
@@ -192,6 +225,14 @@ int main(int argc, char** argv) {
   compare->add_option("reference", cmp_b, "reference image")->required();
   compare->add_flag("--json", cmp_json, "print JSON");
 
+  ExportArgs ea;
+  auto* export_mi = app.add_subcommand("export-mitsuba", "write the parsed scene as a Mitsuba 3 scene (DIR/scene.xml + PLY/EXR)");
+  export_mi->add_option("scene", ea.scene, "scene file")->required();
+  export_mi->add_option("--out", ea.out, "output folder")->required();
+  export_mi->add_option("--set", ea.sets, "set an option as for render: key=value (film.width, path.max_depth, ...)");
+  export_mi->add_option("--config", ea.config, "JSON file of options (applied before --set)");
+  export_mi->footer("Mitsuba's max_depth is path.max_depth + 1 (it counts the camera segment). See src/scene/mitsuba_export.h.");
+
   auto* options = app.add_subcommand("options", "list every option key with its type, default and meaning");
 
   study::StudyArgs sa;
@@ -213,6 +254,7 @@ int main(int argc, char** argv) {
   try {
     if (*render) return run_render(ra);
     if (*info) return run_info(info_scene);
+    if (*export_mi) return run_export_mitsuba(ea);
     if (*compare) return run_compare(cmp_a, cmp_b, cmp_json);
     if (*study_cmd) {
       if (study_list) {
