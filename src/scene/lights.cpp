@@ -137,7 +137,14 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
           wsum += jac;
         }
       }
-      env_texels_ = AliasTable(f);
+      std::vector<float> row_weight(size_t(h), 0.0f);
+      env_cols_.resize(size_t(h));
+      for (int y = 0; y < h; ++y) {
+        std::span<const float> row(f.data() + size_t(y) * size_t(w), size_t(w));
+        env_cols_[size_t(y)] = AliasTable(row);
+        row_weight[size_t(y)] = float(env_cols_[size_t(y)].total_weight());
+      }
+      env_rows_ = AliasTable(row_weight);
       avg = wsum > 0 ? float(sum / wsum) : 0.0f;
     }
     Emitter e;
@@ -357,12 +364,15 @@ bool Lights::sample_environment(Vec2 u, LightSample& out) const {
   if (env_mapping_ == EnvironmentLight::Mapping::constant) {
     wl = sample_uniform_sphere(u);
   } else {
-    // Texel by the alias table, then uniform in the texel's (u, v) cell: pdf_uv = pmf * W * H.
-    float pmf, ux;
-    const uint32_t t = env_texels_.sample(u.x, &pmf, &ux);
-    if (!(pmf > 0)) return false;
+    // Row, then column, then uniform in the texel's (u, v) cell (the tables' remapped u's):
+    // pdf_uv = pmf_row * pmf_col * W * H.
+    float pmf_y, pmf_x, fy, fx;
+    const uint32_t y = env_rows_.sample(u.x, &pmf_y, &fy);
+    if (!(pmf_y > 0)) return false;
+    const uint32_t x = env_cols_[y].sample(u.y, &pmf_x, &fx);
+    if (!(pmf_x > 0)) return false;
     const int w = env_image_.width, h = env_image_.height;
-    const Vec2 uv{(float(t % uint32_t(w)) + ux) / float(w), (float(t / uint32_t(w)) + u.y) / float(h)};
+    const Vec2 uv{(float(x) + fx) / float(w), (float(y) + fy) / float(h)};
     if (env_mapping_ == EnvironmentLight::Mapping::equirect) {
       float theta = uv.y * kPi, phi = uv.x * 2 * kPi;
       float st = std::sin(theta);
@@ -404,7 +414,7 @@ Lights::EnvLookup Lights::environment_lookup(Vec3 dir) const {
   const size_t texel = size_t(y) * size_t(w) + size_t(x);
   const Rgb v = env_image_.pixels[texel] * env_scale_;
   r.radiance = is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
-  const float pdf_uv = env_texels_.pmf(uint32_t(texel)) * float(w) * float(h);
+  const float pdf_uv = env_rows_.pmf(uint32_t(y)) * env_cols_[size_t(y)].pmf(uint32_t(x)) * float(w) * float(h);
   if (equirect) {
     // Jacobian of (u, v) -> direction: 2 pi^2 sin(theta).
     float st = std::sqrt(wl.x * wl.x + wl.y * wl.y);
