@@ -35,5 +35,7 @@ scenes=(scenes/*.pbrt)
 # The furnace also at depth 1: its exact value there (1.5) pins the max-depth mapping.
 scenes+=("$SHARED/scenes/furnace.pbrt@1" "$SHARED/scenes/furnace.pbrt")
 for s in "$SHARED"/scenes/*/scene-v4.pbrt; do scenes+=("$s"); done
+# Tiny analytic cases (expected values in their headers and the README).
+scenes+=(scripts/mitsuba-cases/*.pbrt)
 exec python3 "$ROOT/scripts/validate_mitsuba.py" --restir "$ROOT/build/bin/restir" \
   --out "$ROOT/out/mitsuba-validation" "${extra[@]}" "${scenes[@]}"

@@ -68,21 +68,22 @@ def compare(r_mean, r_var, m_mean, m_var):
     d, se = (rb - mb) / ref, np.sqrt(vb) / ref
     worst = np.unravel_index(np.argmax(np.abs(d)), d.shape)
     over = np.abs(d) > BLOCK_TOL
-    significant = np.abs(d) - 3 * se > BLOCK_TOL
+    significant = over & (np.abs(d) > 3 * se)
     return dict(restir=rm, restir_se=r_se, mitsuba=mm, mitsuba_se=m_se, diff=diff, diff_se=diff_se,
                 worst=d[worst], worst_se=se[worst], worst_at=worst, over=over.mean(),
                 significant=significant.mean(), block_se=float(np.median(se)))
 
 
 def verdict(c):
-    mean_ok = abs(c["diff"]) <= MEAN_TOL
-    mean_sig = abs(c["diff"]) - 3 * c["diff_se"] > MEAN_TOL
-    blocks_ok = c["significant"] <= 0.01
-    if mean_ok and blocks_ok and c["over"] <= 0.01:
+    """PASS: within tolerance. DIFF: beyond tolerance AND more than 3 standard errors from zero
+    (mean), or more than 2 % of the blocks so. Otherwise the tolerance is missed only where the
+    noise is too large to tell ("within noise": more samples needed to decide)."""
+    mean_sig = abs(c["diff"]) > MEAN_TOL and abs(c["diff"]) > 3 * c["diff_se"]
+    if mean_sig or c["significant"] > 0.02:
+        return "DIFF"
+    if abs(c["diff"]) <= MEAN_TOL and c["over"] <= 0.02:
         return "PASS"
-    if not mean_sig and blocks_ok:
-        return "PASS (within noise)"
-    return "DIFF"
+    return "PASS within noise" + (" (blocks)" if abs(c["diff"]) <= MEAN_TOL else "")
 
 
 def render_restir(a, scene, out, w, h, depth):
@@ -153,7 +154,9 @@ def main():
               f"| {100 * c['worst']:+.1f} ± {100 * c['worst_se']:.1f} | {100 * c['over']:.1f} % "
               f"| {100 * c['significant']:.1f} % | {c['verdict']} |")
     print("\nblock % = (restir - mitsuba) / mean of the two (floored at 5 % of the image mean); "
-          "'signif.' = exceeds 3 % by more than 3 standard errors.")
+          "'signif.' = over 3 % and over 3 standard errors;\n"
+          "PASS: mean within 1 % and <= 2 % of the blocks over 3 %; DIFF: the mean over 1 % and over 3 standard errors, "
+          "or > 2 % of the blocks significantly over 3 %; otherwise 'within noise'.")
     return 0 if all(c["verdict"] != "DIFF" for c in rows) else 1
 
 

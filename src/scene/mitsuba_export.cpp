@@ -308,7 +308,7 @@ void Exporter::lights() {
   if (scene_.environment) environment();
 }
 
-// The environment as Mitsuba sees it: radiance at Mitsuba's texel positions (theta = j / (H - 1)
+// The environment as Mitsuba sees it: texels centred at Mitsuba's positions (theta = j / (H - 1)
 // pi, align-corners rows; phi = (i + 0.5) / W 2 pi), world space, to_world = identity, evaluated
 // with restir-lab's own lookup (orientation, mapping, scale and nearest-texel rule included).
 void Exporter::environment() {
@@ -322,19 +322,34 @@ void Exporter::environment() {
   Lights lights(only_env, LightSelection::power);
   // Twice the source's rows (capped) so that the bilinear blur stays well below a source texel.
   const int h = std::min(2 * env.image.height, 2048), w = 2 * h;
+  // Each Mitsuba texel gets restir-lab's radiance averaged over the texel's cell (4 x 4 strata,
+  // weighted by sin(theta)), not a point sample: then the bilinearly reconstructed map keeps the
+  // integral of restir-lab's piecewise-constant one (a point sample of a bright texel would
+  // count it 2 or 3 times depending on how the grids line up).
+  const int ss = 4;
+  const float dtheta = kPi / float(h - 1);
   Image out(w, h);
   for (int j = 0; j < h; ++j) {
-    const float theta = float(j) / float(h - 1) * kPi;
     for (int i = 0; i < w; ++i) {
-      const float phi = (float(i) + 0.5f) / float(w) * 2 * kPi;
-      const Vec3 d{std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta)};
-      out.at(i, j) = lights.environment_radiance(d);
+      Rgb sum(0);
+      float wsum = 0;
+      for (int a = 0; a < ss; ++a) {
+        const float theta = clamp((float(j) - 0.5f + (float(a) + 0.5f) / ss) * dtheta, 0.0f, kPi);
+        const float wt = std::max(std::sin(theta), 1e-6f);
+        for (int b = 0; b < ss; ++b) {
+          const float phi = (float(i) + (float(b) + 0.5f) / ss) / float(w) * 2 * kPi;
+          const Vec3 d{std::sin(phi) * std::sin(theta), std::cos(theta), -std::cos(phi) * std::sin(theta)};
+          sum += lights.environment_radiance(d) * wt;
+          wsum += wt;
+        }
+      }
+      out.at(i, j) = sum / wsum;
     }
   }
   write_exr((fs::path(dir_) / "envmap.exr").string(), out);
   xml_ += "  <emitter type=\"envmap\"><string name=\"filename\" value=\"envmap.exr\"/></emitter>\n";
   note(fmt::format("environment '{}' baked to envmap.exr ({}x{}, world space; Mitsuba filters it bilinearly, "
-                   "restir-lab looks up the nearest texel)", env.filename, w, h));
+                   "restir-lab looks up the nearest texel: same integral, slightly softer edges)", env.filename, w, h));
 }
 
 }  // namespace
