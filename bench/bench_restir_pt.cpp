@@ -37,7 +37,6 @@ int main(int argc, char** argv) {
     base.film.width = width;
     base.film.height = height;
     base.path.max_depth = depth;
-    base.pt.max_depth = depth;
     base.render.sample_pattern = SamplePattern::center;  // same primary hits everywhere: compare light transport
     Options ref = base;
     ref.render.spp = reference_spp;

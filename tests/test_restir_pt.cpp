@@ -127,7 +127,7 @@ TEST_SUITE("restir_pt") {
   TEST_CASE("debug view: reconnection depth is 2 for reconnection, 0 for replay, the first rough vertex for hybrid") {
     Scene scene = load_scene(own_scene("teapot.pbrt"));
     Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=2", "film.width=32", "film.height=18",
-                                    "render.debug_view=reconnection-depth", "pt.max_depth=3"});
+                                    "render.debug_view=reconnection-depth", "path.max_depth=3"});
     auto depths = [&](const char* shift) {
       set_option(o, "pt.shift", shift);
       std::vector<int> count(8, 0);
@@ -151,7 +151,7 @@ TEST_SUITE("slow") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     for (const char* mis : {"pairwise", "generalized-balance"}) {
       Options o = options_for(scene, {"integrator=restir-gi", "render.spp=1", "render.frames=3", "render.sample_pattern=center",
-                                      "gi.max_depth=3"});
+                                      "path.max_depth=3"});
       o.film.width = o.film.height = 20;
       set_option(o, "gi.spatial_mis", mis);
       Options ref = o;
@@ -184,7 +184,7 @@ TEST_SUITE("slow") {
       return sum / 16;
     };
     const double pt = corner({"integrator=pt", "path.max_depth=2", "render.spp=40000"});
-    const double gi = corner({"integrator=restir-gi", "gi.max_depth=2", "gi.temporal=false", "gi.spatial_neighbors=0",
+    const double gi = corner({"integrator=restir-gi", "path.max_depth=2", "gi.temporal=false", "gi.spatial_neighbors=0",
                               "render.spp=1", "render.frames=40000"});
     CHECK(gi == doctest::Approx(pt).epsilon(0.015).scale(1e-9));
   }
@@ -209,7 +209,7 @@ TEST_SUITE("slow") {
     for (const auto& c : cases) {
       Scene scene = load_scene(c.scene);
       Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=3", "render.sample_pattern=center",
-                                      "pt.max_depth=3"});
+                                      "path.max_depth=3"});
       o.film.width = o.film.height = 20;
       set_option(o, "pt.shift", c.shift);
       set_option(o, "pt.spatial_mis", c.mis);
@@ -237,7 +237,7 @@ TEST_SUITE("slow") {
   TEST_CASE("thesis fig. 4.3 / 5.4: on glossy teapots hybrid and random replay beat reconnection at equal frame count") {
     Scene scene = load_scene(own_scene("teapot.pbrt"));
     Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=6", "render.sample_pattern=center",
-                                    "pt.max_depth=3", "film.width=80", "film.height=45"});
+                                    "path.max_depth=3", "film.width=80", "film.height=45"});
     Options ref = o;
     ref.integrator = "pt";
     ref.path.max_depth = 3;

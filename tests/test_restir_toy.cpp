@@ -446,7 +446,9 @@ TEST_CASE("restir_toy: M-cap lets a dynamic toy recover; without it the stale hi
 TEST_CASE("restir_toy: stream() selects candidates with probability w_i / sum w; invalid weights never") {
   constexpr int kTrials = 100000;
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  const std::vector<float> weights{1.0f, 0.0f, 3.0f, nan, 0.5f, -2.0f, 2.0f, inf, 0.01f, 4.0f, -0.0f, 0.25f};
+  // Zero, negative and infinite weights are skipped; NaN is not (below: it makes the reservoir
+  // non-finite, for the render driver to report).
+  const std::vector<float> weights{1.0f, 0.0f, 3.0f, 0.5f, -2.0f, 2.0f, inf, 0.01f, 4.0f, -0.0f, 0.25f};
   double valid_sum = 0;
   float valid_sum_f = 0;
   for (float w : weights)
@@ -493,10 +495,24 @@ TEST_CASE("restir_toy: stream() selects candidates with probability w_i / sum w;
   }
   // No valid candidate: no sample, W = 0.
   R empty;
-  for (float w : {0.0f, nan, -1.0f, inf}) CHECK_FALSE(stream(empty, 1.0f, 1.0f, w, 0.5f));
+  for (float w : {0.0f, -1.0f, inf}) CHECK_FALSE(stream(empty, 1.0f, 1.0f, w, 0.5f));
   finalize(empty);
   CHECK_FALSE(empty.has_sample());
+  CHECK_FALSE(empty.non_finite());
   CHECK(empty.ucw == 0.0f);
+  // A NaN weight or a non-finite target is a broken integrand: never selected, never hidden.
+  for (auto [target, w] : {std::pair{1.0f, nan}, std::pair{nan, 1.0f}, std::pair{inf, 1.0f}}) {
+    R broken;
+    CHECK(stream(broken, 1.0f, 1.0f, 2.0f, 0.5f));
+    CHECK_FALSE(stream(broken, 2.0f, target, w, 0.0f));
+    CHECK(stream(broken, 3.0f, 1.0f, 2.0f, 0.0f) == false);
+    finalize(broken);
+    CHECK(broken.non_finite());
+    CHECK_FALSE(broken.has_sample());
+  }
+  CHECK(resampling_weight(0.0f, 1.0f, 1.0f, inf) == 0.0f);   // no sample, whatever the jacobian
+  CHECK(std::isnan(resampling_weight(0.5f, nan, 1.0f, 1.0f)));
+  CHECK(resampling_weight(0.5f, 1.0f, 1.0f, inf) == 0.0f);   // degenerate shift: dropped
 }
 
 }  // TEST_SUITE

@@ -77,7 +77,7 @@ Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, 
   const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
   Rgb f = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
   Rgb v = f * le * g;
-  return is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
+  return is_finite(v) ? max(v, Rgb(0)) : v;  // non-finite: reported by the render driver, never hidden
 }
 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility) {
@@ -95,9 +95,18 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   if (!s.valid || ctx.lights.empty() || bsdf_is_delta(s.bsdf)) return r;
   const float eps = ctx.accel.ray_epsilon();
   const float ml = float(light_candidates), mb = float(bsdf_candidates);
-  auto weight = [&](const LightPoint& y, float target) {
+  // Resampling weight with the balance heuristic over the two strategies (Bitterli et al. 2020
+  // eq. 4 with MIS; Veach 1997 eq. 9.10): target / (M_l p_light + M_b p_bsdf). A BSDF ray stops at
+  // the first surface, so the BSDF strategy produces a light point only where it is visible from s.
+  // With visibility in the target that is all that matters (occluded points have target 0). Without
+  // it the target covers occluded points too, produced by light sampling alone: their BSDF density
+  // is 0, which takes a shadow ray per light candidate. Counting it there (as before) left W short
+  // on points occluded here and darkened the neighbours that reuse them where they are visible.
+  const bool bsdf_visibility = !visibility && bsdf_candidates > 0;
+  auto weight = [&](const LightPoint& y, float target, bool from_light) {
     if (!(target > 0)) return 0.0f;
     StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0);
+    if (from_light && bsdf_visibility && p.bsdf > 0 && !(di_target(ctx, s, y, true) > 0)) p.bsdf = 0;
     float den = ml * p.light + mb * p.bsdf;
     return den > 0 ? target / den : 0.0f;
   };
@@ -109,7 +118,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     if (!ctx.lights.sample_point(u_select, u, ep)) continue;
     LightPoint y{ep.position, ep.normal, ep.emitter};
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t), u_stream);
+    restir::stream(r, y, t, weight(y, t, true), u_stream);
   }
   const Vec3 wo_l = s.frame.to_local(s.wo);
   for (int i = 0; i < bsdf_candidates; ++i) {
@@ -132,7 +141,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     }
     if (y.emitter == kNoEmitter) continue;
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t), u_stream);
+    restir::stream(r, y, t, weight(y, t, false), u_stream);
   }
   restir::finalize(r);
   if (visibility && r.has_sample() && !(di_target(ctx, s, r.sample, true) > 0)) {

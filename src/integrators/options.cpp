@@ -11,7 +11,14 @@ namespace rl {
 void set_option(Options& o, std::string_view key, std::string_view value) {
   OptionSetter s{key, value};
   visit_options(o, s);
-  if (!s.found) throw OptionError("unknown option '" + std::string(key) + "' (see `restir help options`)");
+  if (!s.found) {
+    // Keys of earlier versions whose meaning now lives in one place.
+    for (const char* old : {"pt.max_depth", "gi.max_depth", "pt.nee", "pt.bsdf_sampling", "pt.russian_roulette"})
+      if (key == old)
+        throw OptionError("option '" + std::string(key) + "' was replaced by 'path." + std::string(key.substr(key.find('.') + 1)) +
+                          "' (one setting for every integrator)");
+    throw OptionError("unknown option '" + std::string(key) + "' (see `restir options`)");
+  }
 }
 
 void set_option_assignment(Options& o, std::string_view a) {
@@ -101,6 +108,9 @@ void validate_options(const Options& o) {
   // 16384 x 16384 is allowed per axis, but not a 268-megapixel frame: 64 MPixel at most.
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
     throw OptionError(fmt::format("resolution {}x{} is too large (at most 64 megapixels)", o.film.width, o.film.height));
+  // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
+  if ((o.integrator == "restir-pt" || o.integrator == "restir-gi") && (o.path.max_depth < 1 || o.path.max_depth > 64))
+    throw OptionError(fmt::format("path.max_depth = {}: {} renders 1 to 64 bounces", o.path.max_depth, o.integrator));
 }
 
 }  // namespace rl

@@ -91,6 +91,9 @@ struct RenderOptions {
   DebugView debug_view = DebugView::none;
 };
 
+// The light transport every integrator renders (pt, restir-gi, restir-pt; restir-di is direct light,
+// depth 1, by definition): one path length, one NEE / BSDF-sampling / roulette setting, so that an
+// integrator and its reference always estimate the same integral.
 struct PathOptions {
   int max_depth = 5;
   bool nee = true;
@@ -127,7 +130,6 @@ struct DiOptions {
 
 // ReSTIR GI (Ouyang et al. 2021): samples are secondary hits with their cached outgoing radiance.
 struct GiOptions {
-  int max_depth = 3;
   GiTarget target = GiTarget::contribution;
   ReuseOptions reuse;
 };
@@ -138,10 +140,6 @@ struct PtOptions {
   float roughness_threshold = 0.2f;
   float distance_threshold = 0.1f;
   int candidates = 1;
-  int max_depth = 3;
-  bool nee = true;
-  bool bsdf_sampling = true;
-  bool russian_roulette = false;
   DirectLighting direct = DirectLighting::path;
   ReuseOptions reuse;
 };
@@ -201,28 +199,23 @@ void visit_options(O& o, V& v) {
     "ReSTIR integrators: output a diagnostic instead of radiance: reservoir confidence M, reuse source of the final "
     "sample (0 = own, 1 = temporal, 2 = spatial), the fraction of reuse candidates rejected or whose shift failed, or "
     "(restir-pt) the reconnection vertex k of the final path (0 = none)");
-  v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting)", Range{0, 1024});
-  v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex");
-  v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7)");
-  v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling");
-  v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette on throughput");
+  v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting); pt, restir-gi and restir-pt (restir-di is depth 1)", Range{0, 1024});
+  v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex (pt, restir-gi, restir-pt)");
+  v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7; pt, restir-gi, restir-pt)");
+  v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling in pt (restir-pt's path tags use the balance heuristic)");
+  v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette (pt: on throughput; restir-pt: on the vertex albedo, which reconnection keeps)");
   v("path.rr_min_depth", o.path.rr_min_depth, "first bounce at which Russian roulette may terminate", Range{1, 1024});
   v("di.light_candidates", o.di.light_candidates, "initial light-sample candidates per pixel (M)", Range{0, 4096});
   v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
-  v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse");
+  v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse (false with BSDF candidates: one shadow ray per light candidate, for the strategies' MIS)");
   v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
   visit_reuse("di", o.di.reuse, v);
-  v("gi.max_depth", o.gi.max_depth, "maximum path length in bounces, as path.max_depth (the sample point's radiance uses max_depth - 1)", Range{1, 64});
   v("gi.target", o.gi.target, "target function: luminance of the sample's radiance, or of BSDF x cosine x radiance");
   visit_reuse("gi", o.gi.reuse, v);
   v("pt.shift", o.pt.shift, "shift mapping for path reuse: reconnect at the first secondary vertex, replay the random numbers, or replay until a rough, distant vertex pair and reconnect");
   v("pt.roughness_threshold", o.pt.roughness_threshold, "hybrid: minimum GGX roughness (sqrt(alpha_x alpha_y); diffuse = 1) of both vertices at a reconnection", Range{0, 1});
   v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
-  v("pt.max_depth", o.pt.max_depth, "maximum path length in bounces, as path.max_depth", Range{1, 64});
-  v("pt.nee", o.pt.nee, "next-event estimation in the paths (MIS-combined with BSDF sampling)");
-  v("pt.bsdf_sampling", o.pt.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere");
-  v("pt.russian_roulette", o.pt.russian_roulette, "Russian roulette in the paths (its probabilities enter the path pdf; replay must repeat the decisions)");
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   visit_reuse("pt", o.pt.reuse, v);
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");

@@ -8,9 +8,29 @@
 
 namespace rl {
 
-PathSettings path_settings(const PtOptions& o) {
-  return {o.max_depth,          o.nee, o.bsdf_sampling, o.russian_roulette, o.shift, o.roughness_threshold,
-          o.distance_threshold, o.direct == DirectLighting::restir_di ? 3 : 2};
+PathSettings path_settings(const Options& o) {
+  // Path length, NEE, BSDF sampling and Russian roulette are the path tracer's settings (path.*),
+  // so that restir-pt and its reference render the same integral.
+  PathSettings ps;
+  ps.max_depth = o.path.max_depth;
+  ps.nee = o.path.nee;
+  ps.bsdf_sampling = o.path.bsdf_sampling;
+  ps.russian_roulette = o.path.russian_roulette;
+  ps.rr_min_depth = o.path.rr_min_depth;
+  ps.shift = o.pt.shift;
+  ps.roughness_threshold = o.pt.roughness_threshold;
+  ps.distance_threshold = o.pt.distance_threshold;
+  ps.min_length = o.pt.direct == DirectLighting::restir_di ? 3 : 2;
+  return ps;
+}
+
+float roulette_survival(const Bsdf& b) {
+  switch (b.type) {
+    case Material::Type::diffuse: return std::min(1.0f, max_component(b.reflectance));
+    case Material::Type::conductor: return std::min(1.0f, max_component(bsdf_conductor_fresnel(b, 1.0f)));
+    case Material::Type::dielectric: return 1.0f;
+  }
+  return 1.0f;
 }
 
 namespace {
@@ -230,6 +250,119 @@ void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitte
   s.rc_tail_measure = t.measure;
 }
 
+// One path of a walk as the walk offers it: x_1..x_n ending at an emitter point.
+struct OfferedPath {
+  int n;
+  bool nee_tag;
+  uint32_t emitter;
+  Vec3 pos, normal;
+  bool is_direction;
+  Rgb last_fcos, tail;  // f_s|cos| of the final segment; Le G
+  float path_pdf, mis;  // full path density (own measure, Russian roulette included); m_t
+  const Terminal* terminal;
+};
+
+// Russian roulette after the step that reached vertex `next` (deciding whether the walk goes on
+// from it). The survival probability is the next vertex's albedo, a property of that vertex alone:
+// a reconnection shift keeps x_k and everything after it, so the suffix's decisions (same random
+// numbers, same probabilities) are identical in the base and the offset path and cancel, while the
+// replayed prefix's probabilities enter its pdf and hence the Jacobian (GRIS §6.1: the map is the
+// identity in primary sample space, including the roulette numbers). A throughput-based
+// probability would change along a reconnected suffix and make the shift non-invertible.
+// Returns the survival probability (0 = terminated).
+float roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u) {
+  if (!ps.russian_roulette || d < ps.rr_min_depth) return 1.0f;
+  const float q = roulette_survival(next.bsdf);
+  return u.roulette < q ? q : 0.0f;
+}
+
+// One walk from the primary surface s with the random streams of walk_seed; calls
+// offer(const OfferedPath&) for every path it contains (each NEE connection and each emitter hit).
+template <class Offer>
+void walk_from(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed, Walk& w,
+               const Offer& offer) {
+  const int max_depth = std::min(ps.max_depth, kMaxVertices - 2);
+  w.v[1] = vertex_from_surface(s);
+  float pdf = 1;
+  for (int d = 1; d <= max_depth; ++d) {
+    const Vertex& v = w.v[size_t(d)];
+    const VertexRandoms u = vertex_randoms(walk_seed, d);
+    // Next-event estimation: path x_1..x_d + light point.
+    if (ps.nee && !v.delta) {
+      EmitterPoint ep;
+      if (ctx.lights.sample_point(u.nee_select, u.nee_point, ep)) {
+        const bool is_dir = ctx.lights.kind(ep.emitter) == Lights::Kind::environment;
+        Terminal t = eval_terminal(ctx, ps, v, ep.emitter, ep.position, ep.normal);
+        if (!is_black(t.fcos * t.emission) && !ctx.accel.occluded(t.shadow)) {
+          const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+          offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry,
+                            pdf * t.light_pdf, mis, &t});
+        }
+      }
+    }
+    // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
+    const Step st = take_step(ctx, ps, v, u);
+    if (!st.ok) break;
+    w.fcos[size_t(d)] = st.fcos;
+    w.pdf[size_t(d)] = st.pdf;
+    w.out[size_t(d)] = st.dir;
+    if (!st.hit) {
+      if (ctx.lights.has_environment()) {
+        const uint32_t e = ctx.lights.environment_emitter();
+        Terminal t;
+        t.wi = st.dir;
+        t.light_pdf = ctx.lights.point_pdf(e, st.dir);
+        t.measure = 1;
+        t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
+        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.fcos, ctx.lights.environment_radiance(st.dir),
+                          pdf * st.pdf, mis, &t});
+      }
+      break;
+    }
+    const SurfaceInteraction& si = st.si;
+    const uint32_t e = emitter_of(ctx, si);
+    if (e != kNoEmitter) {
+      const Rgb le = ctx.lights.emitted(e, si.ng, -st.dir);
+      if (!is_black(le)) {
+        Terminal t;
+        t.wi = st.dir;
+        t.measure = std::fabs(dot(si.ng, st.dir)) / (st.distance * st.distance);
+        t.light_pdf = ctx.lights.point_pdf(e, si.p);
+        t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
+        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis, &t});
+      }
+    }
+    if (d == max_depth) break;
+    w.v[size_t(d + 1)] = vertex_from_hit(ctx, si, -st.dir);
+    const float q = roulette(ps, d, w.v[size_t(d + 1)], u);
+    if (!(q > 0)) break;
+    // The survival probability is part of the continuation's density: every stored pdf (the
+    // replayed prefix's included) carries it, as the shifted paths' do.
+    w.pdf[size_t(d)] *= q;
+    pdf *= w.pdf[size_t(d)];
+  }
+}
+
+// The contribution m_t f of an offered path; beta of a path is the product of the walk's f_s|cos|
+// before its last segment.
+Rgb offered_contribution(const Walk& w, const OfferedPath& o) {
+  Rgb beta(1);
+  for (int i = 1; i <= o.n - 2; ++i) beta *= w.fcos[size_t(i)];
+  return beta * o.last_fcos * o.tail * o.mis;
+}
+
+PathSample describe_offered(const PathSettings& ps, const Walk& w, const OfferedPath& o, uint64_t walk_seed) {
+  PathSample x;
+  x.seed = walk_seed;
+  x.nee = o.nee_tag;
+  x.contribution = offered_contribution(w, o);
+  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_fcos, o.tail, o.path_pdf, o.mis,
+                *o.terminal, x);
+  return x;
+}
+
 }  // namespace
 
 PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
@@ -237,93 +370,31 @@ PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSetting
   PathReservoir r;
   r.confidence = float(candidates);
   if (!s.valid || ctx.lights.empty()) return r;
-  const int max_depth = std::min(ps.max_depth, kMaxVertices - 2);
   Pcg32 stream_rng(mix64(seed ^ 0x5bd1e995ULL), 7);
   Walk w;
   for (int c = 0; c < candidates; ++c) {
     const uint64_t walk_seed = hash_combine(seed, uint64_t(c));
-    w.v[1] = vertex_from_surface(s);
-    Rgb beta(1);
-    float pdf = 1;
-    // Streams one path of the walk (length n, ending at an emitter) into the reservoir.
-    auto offer = [&](int n, bool nee_tag, uint32_t emitter, Vec3 pos, Vec3 normal, bool is_direction, Rgb last_fcos,
-                     Rgb tail, float path_pdf, float mis, const Terminal& t) {
-      const Rgb contribution = beta * last_fcos * tail * mis;
-      const float target = n >= ps.min_length ? luminance(contribution) : 0.0f;
-      if (!(target > 0) || !(path_pdf > 0)) {
+    walk_from(ctx, ps, s, walk_seed, w, [&](const OfferedPath& o) {
+      const Rgb contribution = offered_contribution(w, o);
+      const float target = o.n >= ps.min_length ? luminance(contribution) : 0.0f;
+      if (!(o.path_pdf > 0) || target == 0) {
         (void)stream_rng.next_float();
         return;
       }
-      if (restir::stream(r, PathSample{}, target, target / path_pdf / float(candidates), stream_rng.next_float())) {
-        PathSample& x = r.sample;
-        x.seed = walk_seed;
-        x.nee = nee_tag;
-        x.contribution = contribution;
-        describe_path(ps, w, n, emitter, pos, normal, is_direction, last_fcos, tail, path_pdf, mis, t, x);
-      }
-    };
-    for (int d = 1; d <= max_depth; ++d) {
-      const Vertex& v = w.v[size_t(d)];
-      const VertexRandoms u = vertex_randoms(walk_seed, d);
-      // Next-event estimation: path x_1..x_d + light point.
-      if (ps.nee && !v.delta) {
-        EmitterPoint ep;
-        if (ctx.lights.sample_point(u.nee_select, u.nee_point, ep)) {
-          const bool is_dir = ctx.lights.kind(ep.emitter) == Lights::Kind::environment;
-          Terminal t = eval_terminal(ctx, ps, v, ep.emitter, ep.position, ep.normal);
-          if (!is_black(t.fcos * t.emission) && !ctx.accel.occluded(t.shadow)) {
-            const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
-            offer(d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry, pdf * t.light_pdf,
-                  mis, t);
-          }
-        }
-      }
-      // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
-      const Step st = take_step(ctx, ps, v, u);
-      if (!st.ok) break;
-      const Rgb fcos = st.fcos;
-      w.fcos[size_t(d)] = fcos;
-      w.pdf[size_t(d)] = st.pdf;
-      w.out[size_t(d)] = st.dir;
-      if (!st.hit) {
-        if (ctx.lights.has_environment()) {
-          const uint32_t e = ctx.lights.environment_emitter();
-          Terminal t;
-          t.wi = st.dir;
-          t.light_pdf = ctx.lights.point_pdf(e, st.dir);
-          t.measure = 1;
-          t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
-          const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(d + 1, false, e, st.dir, Vec3(0), true, fcos, ctx.lights.environment_radiance(st.dir), pdf * st.pdf, mis, t);
-        }
-        break;
-      }
-      const SurfaceInteraction& si = st.si;
-      const uint32_t e = emitter_of(ctx, si);
-      if (e != kNoEmitter) {
-        const Rgb le = ctx.lights.emitted(e, si.ng, -st.dir);
-        if (!is_black(le)) {
-          Terminal t;
-          t.wi = st.dir;
-          t.measure = std::fabs(dot(si.ng, st.dir)) / (st.distance * st.distance);
-          t.light_pdf = ctx.lights.point_pdf(e, si.p);
-          t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
-          const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(d + 1, false, e, si.p, si.ng, false, fcos, le * t.measure, pdf * st.pdf * t.measure, mis, t);
-        }
-      }
-      beta *= fcos;
-      pdf *= st.pdf;
-      if (ps.russian_roulette && d >= 2) {
-        const float q = std::min(1.0f, max_component(beta) / pdf);
-        if (!(u.roulette < q)) break;
-        pdf *= q;
-      }
-      w.v[size_t(d + 1)] = vertex_from_hit(ctx, si, -st.dir);
-    }
+      if (restir::stream(r, PathSample{}, target, target / o.path_pdf / float(candidates), stream_rng.next_float()))
+        r.sample = describe_offered(ps, w, o, walk_seed);
+    });
   }
   restir::finalize(r);
   return r;
+}
+
+std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed) {
+  std::vector<PathSample> out;
+  if (!s.valid || ctx.lights.empty()) return out;
+  Walk w;
+  walk_from(ctx, ps, s, walk_seed, w, [&](const OfferedPath& o) { out.push_back(describe_offered(ps, w, o, walk_seed)); });
+  return out;
 }
 
 bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
@@ -335,6 +406,14 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
   Vertex v = vertex_from_surface(y1);
   Rgb beta(1);
   float pdf = 1;
+  // Hybrid invertibility (GRIS §7.2, eqs. 19-20): the offset path must get the same reconnection
+  // index from its own walk as the base path, or the inverse shift (and with it the MIS weights'
+  // partition of unity) differs. So no replayed vertex pair before x_k may be reconnectable, and a
+  // pure-replay path (k = 0) may have no reconnectable pair at all, its last one included.
+  const bool check = hybrid && ps.check_invertibility;
+  auto reconnectable = [&](const Vertex& a, const Vertex& b, float distance) {
+    return rough(a, ps.roughness_threshold) && rough(b, ps.roughness_threshold) && distance >= ps.distance_threshold;
+  };
   // Replay the base path's directions at y_1 .. y_{last-1} with its random numbers.
   const int last = k > 0 ? k - 1 : n - 1;  // the vertex that connects to x_k / samples the last vertex
   for (int d = 1; d < last; ++d) {
@@ -342,17 +421,12 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
     const Step st = take_step(ctx, ps, v, u);
     if (!st.ok || !st.hit) return false;
     const Vertex next = vertex_from_hit(ctx, st.si, -st.dir);
-    // The offset must not become reconnectable before x_k, or the inverse shift would differ.
-    if (hybrid && k > 0 && rough(v, ps.roughness_threshold) && rough(next, ps.roughness_threshold) &&
-        st.distance >= ps.distance_threshold)
-      return false;
+    if (check && reconnectable(v, next, st.distance)) return false;
     beta *= st.fcos;
-    pdf *= st.pdf;
-    if (ps.russian_roulette && d >= 2) {
-      const float q = std::min(1.0f, max_component(beta) / pdf);
-      if (!(u.roulette < q)) return false;
-      pdf *= q;
-    }
+    // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette()).
+    const float q = roulette(ps, d, next, u);
+    if (!(q > 0)) return false;
+    pdf *= st.pdf * q;
     v = next;
   }
   out = base;
@@ -361,9 +435,16 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
     const VertexRandoms u = vertex_randoms(base.seed, last);
     Rgb f;
     float p, mis;
+    // Emitters are reconnectable (choose_reconnection): a rough y_{n-1} far enough from the emitter
+    // point would have made this path's own walk reconnect at k = n.
+    auto emitter_reconnectable = [&](bool is_direction, float distance) {
+      return check && rough(v, ps.roughness_threshold) && (is_direction || distance >= ps.distance_threshold);
+    };
     if (base.nee) {
       EmitterPoint ep;
       if (v.delta || !ps.nee || !ctx.lights.sample_point(u.nee_select, u.nee_point, ep)) return false;
+      const bool is_dir = ctx.lights.kind(ep.emitter) == Lights::Kind::environment;
+      if (emitter_reconnectable(is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
       const Terminal t = eval_terminal(ctx, ps, v, ep.emitter, ep.position, ep.normal);
       if (is_black(t.fcos * t.emission) || ctx.accel.occluded(t.shadow)) return false;
       f = beta * t.fcos * t.emission * t.geometry;
@@ -372,6 +453,7 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
     } else {
       const Step st = take_step(ctx, ps, v, u);
       if (!st.ok) return false;
+      if (emitter_reconnectable(!st.hit, st.distance)) return false;
       float light_pdf, measure;
       Rgb le;
       if (!st.hit) {

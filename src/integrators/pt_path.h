@@ -19,6 +19,8 @@
 //     |cos θ_k^y| / |cos θ_k^x| · |x_k − x_{k−1}|² / |x_k − y_{k−1}|²,  and 1 when x_k is the emitter
 //     vertex (area measure); the replayed prefix contributes the pdf ratio above.
 #pragma once
+#include <vector>
+
 #include "integrators/gbuffer.h"
 #include "restir/reservoir.h"
 
@@ -53,18 +55,31 @@ struct PathSettings {
   bool nee = true;
   bool bsdf_sampling = true;
   bool russian_roulette = false;
+  int rr_min_depth = 3;    // first vertex d whose continuation may be terminated (as path.rr_min_depth)
   ShiftMapping shift = ShiftMapping::hybrid;
   float roughness_threshold = 0.2f;
   float distance_threshold = 0.1f;
   int min_length = 2;  // shortest path offered (3 when direct lighting comes from ReSTIR DI)
+  // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
+  // convergence harness must detect (tests/test_planted_bias.cpp). Never false in a render.
+  bool check_invertibility = true;
 };
-PathSettings path_settings(const PtOptions& o);
+PathSettings path_settings(const Options& o);
+
+// Russian roulette's survival probability after reaching a vertex with this BSDF: its albedo
+// (max component; 1 for dielectrics). A property of the vertex alone, so that reconnection shifts,
+// which keep the suffix's vertices, keep its roulette decisions too (see pt_path.cpp).
+float roulette_survival(const Bsdf& b);
 
 // Traces `candidates` walks from the primary surface s and resamples one path among all the
 // paths they contain (NEE connections and BSDF emitter hits, each MIS-weighted): weight
 // luminance(m_t f / p) / candidates. Confidence = candidates. seeds: hash of (pixel, frame, chain).
 PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
                                      int candidates);
+
+// Every path that one walk with random stream walk_seed offers from s, as PathSamples (tests: the
+// reconnection index a pixel's own walk assigns to a path, against the one a shift carries).
+std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed);
 
 // Shifts `base` to the pixel whose primary surface is `y1` with the sample's shift mapping.
 // Returns false if the shift fails (different path structure, invalid vertex, occlusion, zero

@@ -33,6 +33,20 @@ void draw_progress(int frame, int frames, int done, int total, double elapsed_s)
                width - filled, "", int(f * 100), frame + 1, frames, eta);
   std::fflush(stderr);
 }
+// The one non-finite policy of every integrator: they never zero a NaN or infinity (the ReSTIR
+// ones turn a non-finite target into a non-finite pixel, see mark_non_finite); the driver stops
+// the render with the count and the first pixel.
+void check_finite(const std::string& integrator, int frame, const Image& img) {
+  size_t bad = 0, first = 0;
+  for (size_t i = 0; i < img.size(); ++i)
+    if (!is_finite(img.pixels[i]) && bad++ == 0) first = i;
+  if (bad == 0) return;
+  const size_t w = size_t(img.width);
+  throw RenderError(integrator + ": " + std::to_string(bad) + " pixel(s) of frame " + std::to_string(frame) +
+                    " had non-finite radiance (first at pixel " + std::to_string(first % w) + "," +
+                    std::to_string(first / w) + "): a NaN or infinite value in the scene or a numerical failure");
+}
+
 }  // namespace
 
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
@@ -68,6 +82,7 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
     auto t0 = std::chrono::steady_clock::now();
     integrator->render_frame(info, img);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    check_finite(o.integrator, f, img);
     result.frame_ms.push_back(ms);
     // Running mean, numerically stable for long sequences.
     const float w = 1.0f / float(f + 1);

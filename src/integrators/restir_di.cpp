@@ -84,6 +84,7 @@ class RestirDi final : public Integrator {
           if (!di.visibility_reuse && ctx_.accel.occluded(shadow)) contrib = Rgb(0);
           L += contrib;
         }
+        mark_non_finite(c.reservoirs[p], L);
       }
       sum[p] += L;
     });

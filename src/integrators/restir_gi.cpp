@@ -4,7 +4,7 @@
 // light sample, as the paper leaves direct lighting to ReSTIR DI / NEE); reuse reconnects another pixel's visible point to x_s (reconnection shift,
 // jacobian eq. 11) and keeps the cached radiance. That cache assumes x_s reflects the same radiance
 // toward every visible point (Lambertian x_s): exact for diffuse sample points, biased otherwise —
-// ReSTIR PT's reconnection evaluates x_s's BSDF instead. Reference: pt with path.max_depth = gi.max_depth.
+// ReSTIR PT's reconnection evaluates x_s's BSDF instead. Reference: pt with the same path.* options.
 #include "integrators/path_tracer.h"
 #include "integrators/reuse_passes.h"
 #include "restir/shift.h"
@@ -33,7 +33,7 @@ Rgb gi_integrand(const GSurface& s, const GiSample& x) {
   }
   const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
   const Rgb v = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z) * x.radiance;
-  return is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
+  return is_finite(v) ? max(v, Rgb(0)) : v;  // non-finite: reported by the render driver, never hidden
 }
 
 float gi_target(const RenderContext& ctx, GiTarget kind, const GSurface& s, const GiSample& x, bool visibility) {
@@ -73,7 +73,7 @@ class RestirGi final : public Integrator {
   explicit RestirGi(const RenderContext& ctx) : ctx_(ctx) {
     // The sample point's radiance comes from the reference path tracer with one bounce less.
     path_ = ctx.options.path;
-    path_.max_depth = ctx.options.gi.max_depth - 1;
+    path_.max_depth = ctx.options.path.max_depth - 1;
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
@@ -170,6 +170,7 @@ class RestirGi final : public Integrator {
       Rgb L = sf.valid ? sf.emitted + c.specular[p] : sf.background;
       const GiReservoir& r = c.reservoirs[p];
       if (sf.valid && r.has_sample()) L += gi_integrand(sf, r.sample) * r.ucw;  // visible: the target included it
+      mark_non_finite(r, L);
       sum[p] += L;
     });
 

@@ -1,8 +1,8 @@
 // ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR"):
 // per pixel a reservoir of full paths from the primary hit, reused from the previous frame and
 // from neighbouring pixels through a shift mapping (reconnection, random replay or hybrid; see
-// pt_path.h), then shaded with one path. The reference is the path tracer with path.max_depth =
-// pt.max_depth (emission seen directly at the primary hit is added as is).
+// pt_path.h), then shaded with one path. The reference is the path tracer with the same path.*
+// options (emission seen directly at the primary hit is added as is).
 #include <cstdio>
 #include <string>
 
@@ -35,7 +35,7 @@ struct PtBridge {
 
 class RestirPt final : public Integrator {
  public:
-  explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options.pt)) {
+  explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options)) {
     if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_restir_di(ctx);
   }
 
@@ -87,6 +87,7 @@ class RestirPt final : public Integrator {
       Rgb L = direct_ ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
       const PathReservoir& r = c.reservoirs[p];
       if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
+      mark_non_finite(r, L);
       sum[p] += L;
     });
 

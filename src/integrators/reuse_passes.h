@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/parallel.h"
@@ -29,6 +30,13 @@ struct ReuseDebug {
 };
 
 inline constexpr int kMaxReuseNeighbors = 64;
+
+// The non-finite policy of every integrator: a reservoir that met a NaN or infinite target makes
+// its pixel NaN, and the render driver reports the frame's non-finite pixels (render.cpp).
+template <class Sample>
+void mark_non_finite(const restir::Reservoir<Sample>& r, Rgb& L) {
+  if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());
+}
 
 // The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
 // reconnection_depth: the final sample's reconnection vertex, for integrators that have one
@@ -69,7 +77,8 @@ void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& prev
     const GSurface& prev = previous_g.at(px, py);
     GSurface expected = cur;  // the current point as the previous camera saw it
     expected.depth = length(cur.p - previous_camera.position());
-    if (!similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold)) {
+    // Depth / normal rejection only when asked for (*.similarity_rejection), as in the spatial pass.
+    if (!prev.valid || (rp.similarity_rejection && !similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold))) {
       ++dbg.rejected[p];
       return;
     }

@@ -55,6 +55,8 @@ Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample
   out.confidence = m_sum;
   if (n == 0 || !(m_sum > 0)) return out;
   const float m_c = inputs[0]->confidence, m_rest = m_sum - m_c;
+  // A broken canonical reservoir stays broken (its pixel reports it); broken neighbours are skipped.
+  if (inputs[0]->non_finite()) out.weight_sum = std::numeric_limits<float>::quiet_NaN();
 
   for (int i = 0; i < n; ++i) {
     const Reservoir<Sample>& in = *inputs[size_t(i)];

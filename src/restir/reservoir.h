@@ -17,6 +17,8 @@
 // select Y with probability w_i / Σw, and W_Y = Σw / p̂(Y). Then E[f(Y) W_Y] = ∫ f wherever the m_i
 // sum to one over the sources that can produce each x and p̂ > 0 wherever f ≠ 0.
 #pragma once
+#include <limits>
+
 #include "core/math.h"
 
 namespace rl::restir {
@@ -31,12 +33,20 @@ struct Reservoir {
 
   // True when a sample was selected and carries weight.
   RESTIR_HD bool has_sample() const { return ucw > 0 && target > 0; }
+  // True when a candidate's target or weight was NaN or infinite: the integrand itself is broken
+  // (a NaN in the scene, say). Such a reservoir is never reused; the integrator writes a
+  // non-finite pixel and the render driver reports it (one policy for every integrator).
+  RESTIR_HD bool non_finite() const { return std::isnan(weight_sum) || std::isnan(ucw); }
 };
 
 // Streams one candidate with resampling weight `weight` (weighted reservoir sampling, Chao 1982;
 // Bitterli et al. 2020, Alg. 2). `u` is uniform in [0,1). Returns true when it replaced the sample.
 template <class Sample>
 RESTIR_HD inline bool stream(Reservoir<Sample>& r, const Sample& x, float target, float weight, float u) {
+  if (!std::isfinite(target) || std::isnan(weight)) {
+    r.weight_sum = std::numeric_limits<float>::quiet_NaN();  // surfaces as a non-finite pixel
+    return false;
+  }
   if (!(weight > 0) || !std::isfinite(weight)) return false;
   r.weight_sum += weight;
   if (u * r.weight_sum < weight) {
@@ -52,14 +62,23 @@ RESTIR_HD inline bool stream(Reservoir<Sample>& r, const Sample& x, float target
 // (Alg. 6) passes Z there (see mis.h).
 template <class Sample>
 RESTIR_HD inline void finalize(Reservoir<Sample>& r, float normalization = 1.0f) {
+  if (std::isnan(r.weight_sum)) {
+    r.ucw = std::numeric_limits<float>::quiet_NaN();
+    return;
+  }
   const float denom = r.target * normalization;
   r.ucw = (r.target > 0 && denom > 0 && r.weight_sum > 0) ? r.weight_sum / denom : 0.0f;
   if (!std::isfinite(r.ucw)) r.ucw = 0;
 }
 
 // Resampling weight of one candidate (GRIS eq. 19): m_i · p̂(x) · W_i · |∂T/∂x|.
+// A zero factor gives 0 (0 · ∞ from a degenerate shift is no sample); a NaN factor gives NaN, which
+// stream() turns into a non-finite reservoir instead of hiding it; an infinite weight (degenerate
+// jacobian) is dropped.
 RESTIR_HD inline float resampling_weight(float mis_weight, float target, float ucw, float jacobian = 1.0f) {
-  float w = mis_weight * target * ucw * jacobian;
+  if (mis_weight == 0 || target == 0 || ucw == 0 || jacobian == 0) return 0.0f;
+  const float w = mis_weight * target * ucw * jacobian;
+  if (std::isnan(w)) return w;
   return std::isfinite(w) && w > 0 ? w : 0.0f;
 }
 

@@ -43,11 +43,6 @@ ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const 
   set_option(r, "integrator", "pt");
   r.film = o.film;
   r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
-  // restir-pt has its own depth key "pt.max_depth" (same meaning as path.max_depth); looked up by
-  // name so that this file does not depend on the layout of its options.
-  if (o.integrator == "restir-pt")
-    for (const auto& [k, v] : option_values(o))
-      if (k == "pt.max_depth") set_option(r, "path.max_depth", v);
   set_option(r, "render.spp", std::to_string(s.reference.spp));
   set_option(r, "render.seed", std::to_string(s.reference.seed));
   set_option(r, "render.frames", "1");

@@ -4,7 +4,7 @@
 // writing into the same DIR) reuses the file.
 //
 // The reference of a configuration: integrator pt, the configuration's film (size, filter) and
-// path.max_depth (restir-di: path.max_depth = 1, direct light only; restir-pt: its pt.max_depth),
+// path.max_depth (restir-di: path.max_depth = 1, direct light only; the others: their own path.*),
 // reference.spp samples,
 // reference.seed, one frame rendered with the camera of the frame being compared; every other
 // option at its default (scene hints applied), then the study's reference.options.
