@@ -153,8 +153,8 @@ def main():
         w, h = a.width, max(8, round(a.width * sh / sw))
         depth = int(forced) if forced else min(sd, a.depth_cap)
         name = os.path.splitext(os.path.basename(scene))[0]
-        if name.startswith("scene"):
-            name = os.path.basename(os.path.dirname(os.path.abspath(scene)))
+        if name.startswith("scene"):  # the shared scenes: cornell-box/scene-v4.pbrt -> cornell-box-v4
+            name = os.path.basename(os.path.dirname(os.path.abspath(scene))) + name[len("scene"):]
         label = f"{name}@{depth}"
         out = os.path.join(a.out, label)
         os.makedirs(out, exist_ok=True)
