@@ -330,4 +330,52 @@ TEST_CASE("scenes: env-object") {
   CHECK(v.spheres > 0);
 }
 
+TEST_CASE("scenes: stripes (mixed roughness on one surface, one large area light)") {
+  Scene s = load("stripes");
+  CHECK(light_count(s) == 1);
+  CHECK_FALSE(s.environment);
+  // The light: one quad of 1.6 x 1.6.
+  const std::vector<float> power = emitter_powers(s);
+  REQUIRE(power.size() == 1);
+  for (const TriangleMesh& m : s.meshes)
+    if (m.emission) CHECK(mesh_area(m) == doctest::Approx(1.6 * 1.6).epsilon(1e-3).scale(1e-9));
+  // The floor's stripes: diffuse next to a GGX conductor below the hybrid shift's roughness
+  // threshold (0.2), both seen by the camera.
+  Accel accel(s);
+  View v = look(s, accel, s.camera.keys.at(0), width_of(s), height_of(s));
+  int diffuse_stripes = 0, glossy_stripes = 0;
+  for (size_t i = 0; i < s.meshes.size(); ++i) {
+    const Material& m = s.materials[size_t(s.meshes[i].material)];
+    const bool floor_like = s.meshes[i].triangle_count() == 16;  // 8 stripes of 2 triangles
+    if (!floor_like || v.per_mesh[i] == 0) continue;
+    if (m.type == Material::Type::diffuse) ++diffuse_stripes;
+    if (m.type == Material::Type::conductor && std::sqrt(m.alpha_x * m.alpha_y) < 0.2f && m.alpha_x > 0.05f) ++glossy_stripes;
+  }
+  CHECK(diffuse_stripes == 1);
+  CHECK(glossy_stripes == 1);
+}
+
+TEST_CASE("scenes: mirror-glass (delta surfaces next to rough ones, area light and environment)") {
+  Scene s = load("mirror-glass");
+  REQUIRE(s.environment);
+  CHECK(s.environment->mapping == EnvironmentLight::Mapping::constant);
+  CHECK(light_count(s) == 2);
+  bool mirror = false, rough_glass = false;
+  for (const Material& m : s.materials) {
+    if (m.type == Material::Type::conductor && m.alpha_x == 0) mirror = true;
+    if (m.type == Material::Type::dielectric && m.alpha_x >= 0.2f) rough_glass = true;
+  }
+  CHECK(mirror);
+  CHECK(rough_glass);
+  REQUIRE(s.spheres.size() == 1);
+  CHECK(s.materials[size_t(s.spheres[0].material)].type == Material::Type::dielectric);
+  Accel accel(s);
+  View v = look(s, accel, s.camera.keys.at(0), width_of(s), height_of(s));
+  CHECK(v.spheres > v.rays / 50);  // the glass sphere is in view
+  int mirror_hits = 0;
+  for (size_t i = 0; i < s.meshes.size(); ++i)
+    if (s.materials[size_t(s.meshes[i].material)].type == Material::Type::conductor) mirror_hits += v.per_mesh[i];
+  CHECK(mirror_hits > v.rays / 50);
+}
+
 }  // TEST_SUITE

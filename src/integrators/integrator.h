@@ -9,6 +9,7 @@
 
 #include "image/image.h"
 #include "integrators/options.h"
+#include "integrators/planted_bias.h"
 #include "scene/accel.h"
 #include "scene/camera.h"
 #include "scene/lights.h"
@@ -25,6 +26,7 @@ struct RenderContext {
   const Accel& accel;
   const Lights& lights;
   const Options& options;
+  const PlantedBias* planted = nullptr;  // tests only: see planted_bias.h
 };
 
 struct FrameInfo {

@@ -197,10 +197,11 @@ struct Walk {
 };
 
 // First reconnectable vertex k of the path ending in an emitter at vertex n (hybrid), 2 for
-// reconnection, 0 for replay.
+// reconnection, 0 for replay. Reconnection needs a non-delta x_1 (a delta BSDF cannot connect to an
+// arbitrary x_2): such paths get k = 0 and no reconnection shift, in either direction.
 int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos, bool terminal_is_direction) {
   if (ps.shift == ShiftMapping::random_replay) return 0;
-  if (ps.shift == ShiftMapping::reconnection) return 2;
+  if (ps.shift == ShiftMapping::reconnection) return w.v[1].delta ? 0 : 2;
   for (int k = 2; k <= n; ++k) {
     const Vertex& prev = w.v[size_t(k - 1)];
     if (!rough(prev, ps.roughness_threshold)) continue;
@@ -401,6 +402,9 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
                 PathSample& out, float& jacobian) {
   if (!y1.valid || base.length < 2 || ctx.lights.empty()) return false;
   const int n = base.length, k = base.rc;
+  // Reconnection: a path from a delta primary vertex is not shiftable (its inverse would need to
+  // reconnect from that delta vertex), so the shift fails as its inverse does.
+  if (ps.shift == ShiftMapping::reconnection && k == 0) return false;
   const float eps = ctx.accel.ray_epsilon();
   const bool hybrid = ps.shift == ShiftMapping::hybrid;
   Vertex v = vertex_from_surface(y1);

@@ -58,7 +58,7 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
 
   Accel accel(scene);
   Lights lights(scene, o.render.light_selection);
-  RenderContext ctx{scene, accel, lights, o};
+  RenderContext ctx{scene, accel, lights, o, hooks.planted};
   auto integrator = make_integrator(o.integrator, ctx);
 
   RenderResult result;

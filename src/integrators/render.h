@@ -6,6 +6,7 @@
 
 #include "image/image.h"
 #include "integrators/options.h"
+#include "integrators/planted_bias.h"
 #include "scene/scene.h"
 
 namespace rl {
@@ -20,6 +21,7 @@ struct RenderHooks {
   // Called after each frame with its image and wall time.
   std::function<void(int frame, const Image& image, double ms)> on_frame;
   bool progress_bar = false;     // draw a progress bar on stderr
+  const PlantedBias* planted = nullptr;  // tests only (planted_bias.h)
 };
 
 // Applies what the scene file says (Film resolution, pixel samples, max depth, pixel filter) as

@@ -20,15 +20,21 @@ struct PtBridge {
   const RenderContext* ctx;
   const PathSettings* ps;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
-  bool shift_to_canonical(int, const PathSample& y, PathSample& x, float& jacobian) const {
-    return shift_path(*ctx, *ps, y, *surfaces[0], x, jacobian);
+  mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
+  bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
+    shifting = i;
+    const bool ok = shift_path(*ctx, *ps, y, *surfaces[0], x, jacobian);
+    if (ctx->planted) jacobian *= ctx->planted->jacobian_scale;
+    return ok;
   }
   float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
     float jacobian;
     if (!shift_path(*ctx, *ps, x, *surfaces[i], y, jacobian)) return 0;
-    return luminance(y.contribution) * jacobian;
+    float t = luminance(y.contribution) * jacobian;
+    if (ctx->planted) t *= ctx->planted->jacobian_scale * (i == shifting ? ctx->planted->own_target_scale : 1.0f);
+    return t;
   }
 };
 
@@ -37,6 +43,7 @@ class RestirPt final : public Integrator {
  public:
   explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options)) {
     if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_restir_di(ctx);
+    if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {

@@ -1,0 +1,20 @@
+// Planted biases: deliberate, small errors in ReSTIR's resampling that the test suite injects to
+// prove that its convergence harness can see them (tests/test_planted_bias.cpp). A harness that
+// cannot detect a planted bias is no evidence of unbiasedness. Null in every real render; nothing
+// outside the tests sets it, and it is not an option.
+#pragma once
+
+namespace rl {
+
+struct PlantedBias {
+  // Every shift's jacobian |∂T/∂x| times this, in the resampling weights and in the MIS weights'
+  // shifted-back targets alike (a wrong jacobian formula).
+  float jacobian_scale = 1;
+  // A reused input's target p̂_{←i} scaled by this in its *own* MIS weight only (the other inputs'
+  // weights see it unscaled), so the weights no longer sum to one (GRIS eqs. 19-20).
+  float own_target_scale = 1;
+  // Removes the hybrid shift's invertibility check (pt_path.cpp), the bias of the first review.
+  bool skip_hybrid_check = false;
+};
+
+}  // namespace rl

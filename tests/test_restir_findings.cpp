@@ -1,0 +1,206 @@
+// Regression tests for the findings of the first review (issue #15): each fails on the code before
+// its fix. Hybrid invertibility of pure-replay paths, reciprocal jacobians with Russian roulette,
+// temporal similarity rejection, the one non-finite policy, one path length for every integrator.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <limits>
+
+#include "integrators/integrator.h"
+#include "integrators/pt_path.h"
+#include "test_helpers.h"
+
+using namespace rl;
+using namespace rl::test;
+
+namespace {
+
+struct PtFixture {
+  Scene scene;
+  Options options;
+  std::unique_ptr<Accel> accel;
+  std::unique_ptr<Lights> lights;
+  std::unique_ptr<RenderContext> ctx;
+  GBuffer g;
+  explicit PtFixture(const std::string& path, int size = 24) : scene(load_scene(path)) {
+    options = options_for(scene, {"render.sample_pattern=center"});
+    options.film.width = options.film.height = size;
+    accel = std::make_unique<Accel>(scene);
+    lights = std::make_unique<Lights>(scene, LightSelection::power);
+    ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
+    PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
+    build_gbuffer(*ctx, cam, 0, 0, g);
+  }
+};
+
+// The path of walk `seed` from s with the given length and strategy tag, if the walk offers it.
+const PathSample* find_path(const std::vector<PathSample>& paths, int length, bool nee) {
+  for (const PathSample& p : paths)
+    if (p.length == length && p.nee == nee) return &p;
+  return nullptr;
+}
+
+struct ShiftCounts {
+  int shifted = 0, pure_replay = 0, prefix_checked = 0, round_trips = 0;
+};
+
+// Shifts random paths between random pixels. Every shifted path must carry the reconnection index
+// that the target pixel's own walk with the same random numbers assigns: for pure replay (k = 0)
+// that walk contains the very same path; for k > 0 it shares the replayed prefix, so none of its
+// paths may reconnect before k. And the round trip must give reciprocal jacobians.
+ShiftCounts check_shifts(PtFixture& fx, const PathSettings& ps, int attempts) {
+  ShiftCounts c;
+  Pcg32 rng(4242);
+  const int size = fx.g.width;
+  for (int it = 0; it < attempts; ++it) {
+    const GSurface& a = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    const GSurface& b = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    if (!a.valid || !b.valid) continue;
+    PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
+    if (!r.has_sample()) continue;
+    const PathSample& base = r.sample;
+    PathSample there, back;
+    float j1 = 0, j2 = 0;
+    if (!shift_path(*fx.ctx, ps, base, b, there, j1)) continue;
+    ++c.shifted;
+    const std::vector<PathSample> own = walk_paths(*fx.ctx, ps, b, base.seed);
+    if (base.rc == 0) {
+      const PathSample* same = find_path(own, base.length, base.nee);
+      REQUIRE(same != nullptr);  // replay regenerates the walk's own path
+      CAPTURE(same->rc);
+      CHECK(same->rc == 0);
+      ++c.pure_replay;
+    } else {
+      for (const PathSample& p : own)
+        if (p.length >= base.rc) CHECK((p.rc == 0 || p.rc >= base.rc));
+      ++c.prefix_checked;
+    }
+    if (!shift_path(*fx.ctx, ps, there, a, back, j2)) {
+      FAIL_CHECK("shift not invertible");
+      continue;
+    }
+    ++c.round_trips;
+    CHECK(double(j1) * double(j2) == doctest::Approx(1).epsilon(3e-3).scale(1e-9));
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_SUITE("restir_pt") {
+  TEST_CASE("hybrid: a shifted path carries the reconnection index of the target pixel's own walk (stripes, mirror-glass)") {
+    ShiftCounts total;
+    for (const std::string scene : {"stripes.pbrt", "mirror-glass.pbrt"}) {
+      PtFixture fx(own_scene(scene));
+      for (int depth : {1, 3}) {
+        PathSettings ps;
+        ps.max_depth = depth;
+        CAPTURE(scene);
+        CAPTURE(depth);
+        const ShiftCounts c = check_shifts(fx, ps, 6000);
+        MESSAGE(scene << " depth " << depth << ": " << c.pure_replay << " pure-replay paths, " << c.prefix_checked
+                      << " reconnecting ones checked");
+        total.pure_replay += c.pure_replay;
+        total.prefix_checked += c.prefix_checked;
+      }
+    }
+    CHECK(total.pure_replay > 40);
+    CHECK(total.prefix_checked > 40);
+  }
+
+  TEST_CASE("Russian roulette: shifts stay invertible with reciprocal jacobians (every shift, depth 5)") {
+    for (const std::string scene : {"stripes.pbrt", "mirror-glass.pbrt"}) {
+      PtFixture fx(own_scene(scene));
+      for (ShiftMapping shift : {ShiftMapping::hybrid, ShiftMapping::random_replay, ShiftMapping::reconnection}) {
+        PathSettings ps;
+        ps.max_depth = 5;
+        ps.russian_roulette = true;
+        ps.rr_min_depth = 1;
+        ps.shift = shift;
+        CAPTURE(scene);
+        CAPTURE(int(shift));
+        CHECK(check_shifts(fx, ps, 3000).round_trips > 50);
+      }
+    }
+  }
+
+  TEST_CASE("Russian roulette: survival follows the vertex albedo") {
+    Bsdf d;
+    d.reflectance = Rgb(0.2f, 0.7f, 0.4f);
+    CHECK(roulette_survival(d) == doctest::Approx(0.7f));
+    Bsdf glass;
+    glass.type = Material::Type::dielectric;
+    CHECK(roulette_survival(glass) == 1.0f);
+  }
+}
+
+TEST_SUITE("restir_di") {
+  TEST_CASE("temporal reuse rejects dissimilar history only when similarity_rejection is on") {
+    Scene scene = load_scene(own_scene("cornell-box.pbrt"));
+    Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=2", "render.sample_pattern=center",
+                                    "film.width=16", "film.height=16", "di.spatial_neighbors=0",
+                                    "render.debug_view=rejected-shifts", "di.depth_threshold=0"});
+    // The camera steps forward by 2 cm: every depth changes a little, nearly every pixel stays on screen.
+    const std::string path = std::string(RESTIR_BINARY_DIR) + "/temporal-rejection.camera.json";
+    {
+      std::ofstream f(path);
+      f << R"({"keys": [{"eye": [2.78, 2.73, -8.0], "target": [2.78, 2.73, 0], "up": [0, 1, 0], "fov": 39.3},
+                       {"eye": [2.78, 2.73, -7.98], "target": [2.78, 2.73, 0], "up": [0, 1, 0], "fov": 39.3}]})";
+    }
+    o.render.camera_path = path;
+    auto rejected = [&](bool rejection) {
+      o.di.reuse.similarity_rejection = rejection;
+      double sum = 0;
+      for (const Rgb& p : render(scene, o).last.pixels) sum += p.x;
+      return sum / 256;
+    };
+    CHECK(rejected(true) > 0.9);   // a zero depth threshold rejects every moved surface
+    CHECK(rejected(false) < 0.2);  // only reprojections off screen or onto the background
+  }
+}
+
+TEST_SUITE("render") {
+  TEST_CASE("every integrator reports non-finite radiance (one policy, in the render driver)") {
+    Scene scene = load_scene(own_scene("cornell-box.pbrt"));
+    // A NaN emitter, as a buggy loader or texture could produce it (the parser refuses NaN L).
+    for (TriangleMesh& m : scene.meshes)
+      if (m.emission) m.emission->radiance = Rgb(std::numeric_limits<float>::quiet_NaN(), 1, 1);
+    for (const char* integrator : {"pt", "restir-di", "restir-gi", "restir-pt"}) {
+      Options o = options_for(scene, {"render.spp=1", "render.frames=2", "film.width=16", "film.height=16",
+                                      "render.light_selection=uniform", "path.max_depth=2"});
+      set_option(o, "integrator", integrator);
+      CAPTURE(integrator);
+      bool threw = false;
+      try {
+        render(scene, o);
+      } catch (const RenderError& e) {
+        threw = std::string(e.what()).find("non-finite") != std::string::npos &&
+                std::string(e.what()).find(integrator) != std::string::npos;
+      }
+      CHECK(threw);
+    }
+  }
+
+  TEST_CASE("one path length: restir-pt and restir-gi follow path.max_depth and the scene's maxdepth") {
+    Scene scene = load_scene(own_scene("stripes.pbrt"));  // Integrator "path" "integer maxdepth" 5
+    const Options o = options_for(scene, {"integrator=restir-pt"});
+    CHECK(o.path.max_depth == 5);
+    CHECK(path_settings(o).max_depth == 5);
+    Options rr = o;
+    rr.path.russian_roulette = false;
+    CHECK_FALSE(path_settings(rr).russian_roulette);
+    // The keys of the former per-integrator depths point to the one setting.
+    for (const char* old : {"pt.max_depth=3", "gi.max_depth=3", "pt.russian_roulette=true", "pt.nee=false"}) {
+      Options x;
+      CAPTURE(old);
+      CHECK_THROWS_WITH_AS(set_option_assignment(x, old), doctest::Contains("path."), OptionError);
+    }
+    // restir-gi at depth 1 is direct light only, depth 2 adds one bounce: the depth reaches it.
+    Options gi = options_for(scene, {"integrator=restir-gi", "render.spp=1", "render.frames=4", "film.width=16",
+                                     "film.height=16", "path.max_depth=1"});
+    const double one = mean_channel(render(scene, gi).average, 1);
+    gi.path.max_depth = 3;
+    CHECK(mean_channel(render(scene, gi).average, 1) > 1.05 * one);
+  }
+}
