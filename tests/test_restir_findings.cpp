@@ -9,30 +9,12 @@
 
 #include "integrators/integrator.h"
 #include "integrators/pt_path.h"
-#include "test_helpers.h"
+#include "pt_fixture.h"
 
 using namespace rl;
 using namespace rl::test;
 
 namespace {
-
-struct PtFixture {
-  Scene scene;
-  Options options;
-  std::unique_ptr<Accel> accel;
-  std::unique_ptr<Lights> lights;
-  std::unique_ptr<RenderContext> ctx;
-  GBuffer g;
-  explicit PtFixture(const std::string& path, int size = 24) : scene(load_scene(path)) {
-    options = options_for(scene, {"render.sample_pattern=center"});
-    options.film.width = options.film.height = size;
-    accel = std::make_unique<Accel>(scene);
-    lights = std::make_unique<Lights>(scene, LightSelection::power);
-    ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
-    PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
-    build_gbuffer(*ctx, cam, 0, 0, g);
-  }
-};
 
 // The path of walk `seed` from s with the given length and strategy tag, if the walk offers it.
 const PathSample* find_path(const std::vector<PathSample>& paths, int length, bool nee) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "convergence.h"
+#include "pt_fixture.h"
 #include "image/metrics.h"
 #include "integrators/pt_path.h"
 #include "restir/shift.h"
@@ -13,24 +14,7 @@ using namespace rl::test;
 
 namespace {
 
-// A scene with its acceleration structure, lights and one frame's primary hits.
-struct Fixture {
-  Scene scene;
-  Options options;
-  std::unique_ptr<Accel> accel;
-  std::unique_ptr<Lights> lights;
-  std::unique_ptr<RenderContext> ctx;
-  GBuffer g;
-  explicit Fixture(const std::string& path, int size = 24) : scene(load_scene(path)) {
-    options = options_for(scene, {"render.sample_pattern=center"});
-    options.film.width = options.film.height = size;
-    accel = std::make_unique<Accel>(scene);
-    lights = std::make_unique<Lights>(scene, LightSelection::power);
-    ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
-    PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
-    build_gbuffer(*ctx, cam, 0, 0, g);
-  }
-};
+using Fixture = PtFixture;
 
 bool close_rgb(Rgb a, Rgb b, float rel) {
   for (int c = 0; c < 3; ++c)

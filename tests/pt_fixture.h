@@ -1,0 +1,31 @@
+// A scene with its acceleration structure, lights and one frame's primary hits (centre of each
+// pixel): what the shift-mapping tests of ReSTIR PT work on.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "integrators/gbuffer.h"
+#include "integrators/integrator.h"
+#include "test_helpers.h"
+
+namespace rl::test {
+
+struct PtFixture {
+  Scene scene;
+  Options options;
+  std::unique_ptr<Accel> accel;
+  std::unique_ptr<Lights> lights;
+  std::unique_ptr<RenderContext> ctx;
+  GBuffer g;
+  explicit PtFixture(const std::string& path, int size = 24) : scene(load_scene(path)) {
+    options = options_for(scene, {"render.sample_pattern=center"});
+    options.film.width = options.film.height = size;
+    accel = std::make_unique<Accel>(scene);
+    lights = std::make_unique<Lights>(scene, LightSelection::power);
+    ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
+    PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
+    build_gbuffer(*ctx, cam, 0, 0, g);
+  }
+};
+
+}  // namespace rl::test
