@@ -131,27 +131,7 @@ TEST_SUITE("restir_pt") {
 }
 
 TEST_SUITE("slow") {
-  TEST_CASE("ReSTIR GI converges to the path tracer on a diffuse scene (its cached radiance is exact there)") {
-    Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
-    for (const char* mis : {"pairwise", "generalized-balance"}) {
-      Options o = options_for(scene, {"integrator=restir-gi", "render.spp=1", "render.frames=3", "render.sample_pattern=center",
-                                      "path.max_depth=3"});
-      o.film.width = o.film.height = 20;
-      set_option(o, "gi.spatial_mis", mis);
-      Options ref = o;
-      ref.integrator = "pt";
-      ref.path.max_depth = 3;
-      ref.render.spp = 4096;
-      ref.render.frames = 1;
-      BlockStats st = compare_to_reference(scene, o, ref, 20, 4, 4.5);
-      CAPTURE(mis);
-      CAPTURE(st.worst_z);
-      CAPTURE(st.image_mean);
-      CAPTURE(st.reference_mean);
-      CHECK(st.outliers == 0);
-      CHECK(std::fabs(st.relative_bias()) < 0.01 + 3 * st.image_se / st.reference_mean);
-    }
-  }
+  // ReSTIR GI with reuse on the diffuse Cornell box: the equivalence test in test_restir_equivalence.cpp.
 
   TEST_CASE("ReSTIR GI's own samples are unbiased at contact geometry (floor-wall corner of the Cornell box)") {
     // Regression: a sample's density must be taken along the direction the sample is valued in
