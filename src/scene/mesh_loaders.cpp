@@ -77,6 +77,7 @@ void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, st
           t.name = mt.diffuse_texname;
           fs::path tp(mt.diffuse_texname);
           std::string full = tp.is_absolute() ? tp.string() : (fs::path(dir) / tp).string();
+          scene.input_files.push_back(full);
           t.image = read_image_for(full, path, 0);
           scene.textures.push_back(std::move(t));
           m.reflectance_texture = int(scene.textures.size()) - 1;
@@ -354,6 +355,11 @@ void import_gltf(const std::string& path, const MeshImport& opt, Scene& scene, s
   if (!ok) throw SceneError(path, 0, "cannot read glTF: " + one_line(err.empty() ? warn : err));
   if (!warn.empty()) std::fprintf(stderr, "%s: warning: %s\n", path.c_str(), one_line(warn).c_str());
 
+  // External buffers and images are inputs too (never written onto, part of a study's hash).
+  for (const auto& b : model.buffers)
+    if (!b.uri.empty() && !b.uri.starts_with("data:")) scene.input_files.push_back((fs::path(path).parent_path() / b.uri).string());
+  for (const auto& im : model.images)
+    if (!im.uri.empty() && !im.uri.starts_with("data:")) scene.input_files.push_back((fs::path(path).parent_path() / im.uri).string());
   GltfCtx c{model, path, opt, scene, out, {}, {}, camera};
   if (opt.use_file_materials) {
     for (const tinygltf::Material& gm : model.materials) {
