@@ -282,7 +282,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
     std::string msg = e.what();
-    if (argc <= 1) msg = "a command is required (render, info, compare, study, options)";
+    const char* commands = "render, info, compare, study, options";
+    if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
+    else if (argv[1][0] != '-' && std::string(" render info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+      msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
     return 2;

@@ -522,7 +522,7 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
       sp.radius = r * s;
       if (!within_world(sp.center) || !(sp.radius <= kMaxWorldCoordinate))
         d.fail(fmt::format("sphere: \"radius\" {} lies beyond the supported world extent (|x| <= {:g}) after the transform",
-                           pbrt::format_number(sp.radius), kMaxWorldCoordinate));
+                           sp.radius, kMaxWorldCoordinate));
       sp.material = gs_.material;
       sp.emission = gs_.area;
       sp.flip_normal = gs_.reverse != (xf.det3() < 0);

@@ -24,6 +24,9 @@ void Tokenizer::push_file(const std::string& path, const std::string& from_file,
   // An ifstream opens a directory without complaint on Linux and then reads nothing.
   if (std::filesystem::is_directory(path, ec))
     throw SceneError(from_file, from_line, "'" + path + "' is a directory, not a scene file");
+  // A FIFO or a device (/dev/zero, /dev/stdin) would block or never end.
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(from_file, from_line, "'" + path + "' is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(from_file, from_line, "cannot open file '" + path + "'");
   std::ostringstream ss;

@@ -32,7 +32,8 @@ void check_point(const std::string& where, const char* what, Vec3 p) {
 
 void check_meshes(const Scene& s) {
   for (const TriangleMesh& m : s.meshes) {
-    const std::string& where = m.source.empty() ? s.source_path : m.source;
+    std::string where = m.source.empty() ? s.source_path : m.source;
+    if (where.ends_with(':')) where.pop_back();  // OBJ/glTF "file:name" with an unnamed shape
     if (m.indices.empty()) fail(where, "mesh has no triangles");
     for (size_t i = 0; i < m.positions.size(); ++i)
       check_point(where, fmt::format("vertex {}", i).c_str(), m.positions[i]);
