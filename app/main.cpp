@@ -97,13 +97,13 @@ void write_outputs(const std::string& exr, const std::string& png, const Image& 
 }
 
 int run_render(const RenderArgs& a) {
+  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
+    throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
   Scene scene = load_scene(a.scene);
   Options o;
   apply_scene_hints(o, scene.hints);
   if (!a.config.empty()) apply_options_file(o, a.config);
   // Dedicated flags are shorthands for --set; they are applied after the config file.
-  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
-    throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
   if (!a.integrator.empty()) set_option(o, "integrator", a.integrator);
   if (a.spp > 0) set_option(o, "render.spp", std::to_string(a.spp));
   if (a.frames > 0) set_option(o, "render.frames", std::to_string(a.frames));
@@ -284,7 +284,8 @@ int main(int argc, char** argv) {
     std::string msg = e.what();
     const char* commands = "render, info, compare, study, options";
     if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
-    else if (argv[1][0] != '-' && std::string(" render info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+    else if (argv[1][0] != '-' &&
+             std::string(" render info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
       msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());

@@ -131,8 +131,6 @@ inline std::vector<BadCase> bad_input_cases() {
       std::string line = replace_all(p.line, "V", b);
       std::string text = p.header ? header_line(line) : world_line(line);
       std::string where = p.header ? (p.line.starts_with("Camera") ? "s.pbrt:2" : "s.pbrt:1") : "s.pbrt:8";
-      // LookAt's position is judged where the camera is defined (line 3 of header_line's scene).
-      if (p.line.starts_with("LookAt") && b == "1e30") where = "s.pbrt:3";
       BadCase c{p.line + " with " + b, {{"s.pbrt", text}}, kRender, 1, {where}};
       if (!p.param.empty()) c.expect.push_back(p.param);
       v.push_back(c);
@@ -160,7 +158,10 @@ inline std::vector<BadCase> bad_input_cases() {
   v.push_back({"Include of a directory", {{"s.pbrt", world_line("Include \"sub\"")}, {"sub/", ""}}, kRender, 1,
                {"s.pbrt:8", "directory"}});
   v.push_back({"Include of a missing file", {{"s.pbrt", world_line("Include \"nope.pbrt\"")}}, kRender, 1, {"s.pbrt:8", "nope.pbrt"}});
-  v.push_back({"recursive Include", {{"s.pbrt", world_line("Include \"s.pbrt\"")}}, kRender, 1, {"s.pbrt:8", "Include"}});
+  v.push_back({"recursive Include", {{"s.pbrt", world_line("Include \"r.pbrt\"")}, {"r.pbrt", "Include \"r.pbrt\"\n"}},
+               kRender, 1, {"r.pbrt:1", "Include"}});
+  v.push_back({"camera position beyond the world", {{"s.pbrt", header_line("Translate 1e13 0 0")}}, kRender, 1,
+               {"s.pbrt:3", "Camera"}});
   v.push_back({"bad value inside an included file", {{"s.pbrt", world_line("Include \"inc.pbrt\"")},
                                                       {"inc.pbrt", "\nMaterial \"diffuse\" \"rgb reflectance\" [2 0 0]\n"}},
                kRender, 1, {"inc.pbrt:2", "reflectance"}});
@@ -272,10 +273,16 @@ inline std::vector<BadCase> bad_input_cases() {
   opt("--res 0x8", "--res 0x8", {"film.width"});
   opt("camera path eye at 1e300", "--set render.camera_path={d}/cp.json", {"cp.json", "eye"},
       {{"cp.json", R"({"keys": [{"eye": [1e300, 0, 0], "target": [0, 0, 1]}]})"}});
-  opt("camera path with NaN-free overflow", "--set render.camera_path={d}/cp.json", {"cp.json"},
+  opt("camera path with an overflowing number", "--set render.camera_path={d}/cp.json", {"cp.json"},
       {{"cp.json", R"({"keys": [{"eye": [1e400, 0, 0], "target": [0, 0, 1]}]})"}});
   opt("camera path fov 1e300", "--set render.camera_path={d}/cp.json", {"cp.json", "fov"},
       {{"cp.json", R"({"keys": [{"eye": [0, 0, 0], "target": [0, 0, 1], "fov": 1e300}]})"}});
+
+  // Studies: a plot that would be silently lost, a study that is not JSON.
+  v.push_back({"study plot named -p", {{"s.pbrt", good_scene()}, {"st.json", R"({"scenes": ["s.pbrt"], "metrics": ["time"],
+      "axes": [{"key": "render.spp", "values": [1, 2]}], "plots": [{"name": "-p", "x": "render.spp", "y": "time"}]})"}},
+               "study {d}/st.json -q --out {d}/out", 1, {"st.json", "-p"}});
+  v.push_back({"study file that is not JSON", {{"st.json", "{"}}, "study {d}/st.json -q --out {d}/out", 1, {"st.json"}});
 
   // compare: the metrics of a tone-mapped PNG against a linear EXR mean nothing.
   v.push_back({"compare PNG with EXR", {{"a.png", "x"}, {"b.exr", "x"}}, "compare {d}/a.png {d}/b.exr", 1, {"a.png", "b.exr"}});

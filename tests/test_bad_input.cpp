@@ -81,12 +81,12 @@ void run_case(const BadCase& c, const fs::path& d) {
       ++errors;
       error_line = l;
     } else {
-      CHECK_MESSAGE(l.find("warning: ") != std::string::npos, "a line that is neither the error nor a warning: " + l);
+      CHECK_MESSAGE(l.find("warning: ") != std::string::npos, "a line that is neither the error nor a warning: " << l);
     }
   }
   CHECK(errors == 1);
   for (const std::string& e : c.expect)
-    CHECK_MESSAGE(error_line.find(substitute(e, d.string())) != std::string::npos, "error line lacks: " + e);
+    CHECK_MESSAGE(error_line.find(substitute(e, d.string())) != std::string::npos, "error line lacks: " << e);
   // Nothing written, nothing destroyed, no temporary file.
   CHECK(snapshot(d) == before);
 }

@@ -163,6 +163,10 @@ class Parser {
       apply(d, rotate(v[0], Vec3(v[1], v[2], v[3])));
     } else if (n == "LookAt") {
       auto v = expect_numbers(d, 9);
+      for (int i = 0; i < 6; ++i)
+        if (std::fabs(v[size_t(i)]) > kMaxWorldCoordinate)
+          d.fail(fmt::format("LookAt: {} {} lies beyond the supported world extent (|x| <= {:g})", i < 3 ? "eye" : "target",
+                             v[size_t(i)], kMaxWorldCoordinate));
       Mat4 m;
       if (!look_at(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), Vec3(v[6], v[7], v[8]), m))
         d.fail("LookAt: degenerate (eye == target or up parallel to the view direction)");
