@@ -12,10 +12,6 @@
 
 #include "scene/loader.h"
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  std::freopen("/dev/null", "w", stderr);  // the loaders' warnings would drown libFuzzer's output
-  return 0;
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > (1 << 20)) return 0;

@@ -23,7 +23,7 @@ for t in pbrt ply obj gltf; do
   echo "== fuzz_$t for ${SECONDS_PER_TARGET} s"
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       "$BUILD/bin/fuzz_$t" "$BUILD/corpus/$t" "$ROOT/fuzz/corpus/$t" -max_total_time="$SECONDS_PER_TARGET" \
-      -timeout=10 -rss_limit_mb=4096 -max_len=65536 -artifact_prefix="$BUILD/crashes/$t/" -print_final_stats=1 \
+      -timeout=10 -close_fd_mask=2 -rss_limit_mb=4096 -max_len=65536 -artifact_prefix="$BUILD/crashes/$t/" -print_final_stats=1 \
       > "$BUILD/fuzz_$t.log" 2>&1; then
     echo "fuzz_$t: FAILED (see $BUILD/fuzz_$t.log and $BUILD/crashes/$t/)"
     tail -30 "$BUILD/fuzz_$t.log"

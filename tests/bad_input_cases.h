@@ -169,6 +169,9 @@ inline std::vector<BadCase> bad_input_cases() {
                {"s.pbrt:2"}});
   v.push_back({"random bytes as OBJ", {{"m.obj", "\x13\x37 garbage \xff\n\x01\x02\x03\n"}}, "render -q {d}/m.obj -o {d}/o.exr", 1,
                {"m.obj", "no triangles"}});
+  // Found by fuzz_obj (fuzz/regressions/obj-index-overflow.obj): 3 * index overflowed an int (UBSan).
+  v.push_back({"OBJ with an index of -3333333331 (fuzz)", {{"m.obj", std::string("\x76\xf2\x30\x20\x30\x20\x30\x0a\xf6\x20\x31\xff\xff\xff\xff\xff\x20\x31\x6d\x74\x6c\x6c\x20\x31\x20\x30\x20\x31\x0a\x76\x20\x31\x31\x20\x30\x20\x31\x0a\x76\x20\x30\x20\x31\x20\x31\x0a\x66\x20\x2d\x33\x33\x33\x33\x33\x33\x33\x33\x33\x31\x20\x2d\x32\x20\x2d\x33\x0a", 66)}},
+               "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj", "index"}});
   v.push_back({"empty OBJ", {{"m.obj", ""}}, "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj", "no triangles"}});
   v.push_back({"OBJ with an overflowing vertex", {{"m.obj", "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}}, "render -q {d}/m.obj -o {d}/o.exr",
                1, {"m.obj", "vertex"}});

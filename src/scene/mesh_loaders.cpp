@@ -115,22 +115,22 @@ void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, st
             g.idx.push_back(it->second);
             continue;
           }
-          if (ix.vertex_index < 0 || size_t(3 * ix.vertex_index + 2) >= at.vertices.size())
+          if (ix.vertex_index < 0 || (size_t(ix.vertex_index) * 3 + 2) >= at.vertices.size())
             throw SceneError(path, 0, "shape '" + sh.name + "': vertex index out of range");
           uint32_t id = uint32_t(g.p.size());
           g.remap[key] = id;
           g.idx.push_back(id);
-          const float* v = &at.vertices[size_t(3 * ix.vertex_index)];
+          const float* v = &at.vertices[(size_t(ix.vertex_index) * 3)];
           g.p.emplace_back(v[0], v[1], v[2]);
-          if (ix.normal_index >= 0 && size_t(3 * ix.normal_index + 2) < at.normals.size()) {
-            const float* n = &at.normals[size_t(3 * ix.normal_index)];
+          if (ix.normal_index >= 0 && (size_t(ix.normal_index) * 3 + 2) < at.normals.size()) {
+            const float* n = &at.normals[(size_t(ix.normal_index) * 3)];
             g.n.emplace_back(n[0], n[1], n[2]);
           } else {
             g.all_n = false;
             g.n.emplace_back(0, 0, 0);
           }
-          if (ix.texcoord_index >= 0 && size_t(2 * ix.texcoord_index + 1) < at.texcoords.size()) {
-            const float* t = &at.texcoords[size_t(2 * ix.texcoord_index)];
+          if (ix.texcoord_index >= 0 && (size_t(ix.texcoord_index) * 2 + 1) < at.texcoords.size()) {
+            const float* t = &at.texcoords[(size_t(ix.texcoord_index) * 2)];
             g.uv.emplace_back(t[0], t[1]);
           } else {
             g.all_uv = false;
