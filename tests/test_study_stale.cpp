@@ -56,6 +56,10 @@ TEST_SUITE("study_stale") {
     CHECK(r.output.find("older inputs") != std::string::npos);
     CHECK(slurp(d / "out/report.html").find("1 stored row(s) were stale") != std::string::npos);
     CHECK(slurp(d / "out/results.csv") != first);
+    // The stale row is gone from the store: a third run has nothing stale and nothing to run.
+    auto again = test::run_restir("study " + a.study + " --out " + a.out);
+    CHECK(again.output.find("0 to run") != std::string::npos);
+    CHECK(again.output.find("older inputs") == std::string::npos);
     fs::remove_all(d);
   }
 }

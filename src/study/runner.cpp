@@ -75,9 +75,10 @@ std::string inputs_hash(const Scene& scene, const std::string& path) {
   return hash_hex(text);
 }
 
-// Stored rows for the same scene, seed and options as a current job but another id: computed from
-// inputs that have changed since.
-size_t count_stale(const std::vector<Row>& stored, const std::vector<Job>& jobs, const std::vector<SceneData>& scenes) {
+// Ids of the stored rows for the same scene, seed and options as a current job but another id:
+// computed from inputs that have changed since. They are dropped once the study completes.
+std::set<std::string> stale_ids(const std::vector<Row>& stored, const std::vector<Job>& jobs,
+                                const std::vector<SceneData>& scenes) {
   auto key = [](const std::string& scene, uint64_t seed, std::vector<std::pair<std::string, std::string>> opts) {
     std::erase_if(opts, [](const auto& kv) { return kv.first == "render.threads"; });
     std::string k = scene + "|" + std::to_string(seed);
@@ -92,7 +93,7 @@ size_t count_stale(const std::vector<Row>& stored, const std::vector<Job>& jobs,
   std::set<std::string> stale;
   for (const Row& r : stored)
     if (!ids.count(r.id) && current.count(key(r.scene, r.seed, r.options))) stale.insert(r.id);
-  return stale.size();
+  return stale;
 }
 
 // The identity of a configuration: every option except the thread count (which does not change
@@ -279,10 +280,10 @@ int run_study(const StudyArgs& a) {
   std::vector<const Job*> pending;
   for (const auto& j : jobs)
     if (!store.has(j.id)) pending.push_back(&j);
-  const size_t stale = count_stale(store.rows(), jobs, scenes);
-  if (stale > 0 && !a.quiet)
+  const std::set<std::string> stale = stale_ids(store.rows(), jobs, scenes);
+  if (!stale.empty() && !a.quiet)
     std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
-                 "renderer changed since): recomputing them\n", stale);
+                 "renderer changed since): recomputing them\n", stale.size());
 
   // References first (sequential, each with every thread), then the jobs.
   std::vector<const ReferenceJob*> ref_todo;
@@ -355,6 +356,7 @@ int run_study(const StudyArgs& a) {
     seeds_of_config[j.config_id].push_back(j.id);
   }
   std::vector<Row> rows = store.rows();
+  std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0; });  // superseded by the recomputed rows
   if (s.has_metric("noise")) {
     std::map<std::string, double> noise;
     for (const auto& [cfg, ids] : seeds_of_config) {
@@ -390,7 +392,7 @@ int run_study(const StudyArgs& a) {
   info.references_reused = refs.reused();
   info.jobs_run = pending.size();
   info.jobs_total = jobs.size();
-  info.stale_rows = stale;
+  info.stale_rows = stale.size();
   info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   write_report(out.string(), s, current, report_configs, plots, info);
   if (!a.quiet)
