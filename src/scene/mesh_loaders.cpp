@@ -389,6 +389,9 @@ void import_gltf(const std::string& path, const MeshImport& opt, Scene& scene, s
         e = Rgb(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]), float(gm.emissiveFactor[2]));
       if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
         if (it->second.Has("emissiveStrength")) e *= float(it->second.Get("emissiveStrength").GetNumberAsDouble());
+      // A negative or non-finite emission is not "no emission": refuse it rather than drop it.
+      if (!is_finite(e) || e.x < 0 || e.y < 0 || e.z < 0)
+        throw SceneError(path, 0, "material '" + gm.name + "': emissiveFactor (x emissiveStrength) must be finite and >= 0");
       c.mat_emit.push_back(max_component(e) > 0 ? std::optional<AreaEmission>(AreaEmission{e, gm.doubleSided}) : std::nullopt);
       scene.materials.push_back(m);
       c.mat_index.push_back(int(scene.materials.size()) - 1);
