@@ -255,11 +255,15 @@ int run_study(const StudyArgs& a) {
           throw StudyError(fmt::format("{}: scene {}: {}", file, s.scenes[si], e.what()));
         }
         find_integrator(j.options.integrator);
-        j.id = hash_hex(option_identity(j.options, s.scenes[si]) + " inputs=" + scenes[si].inputs_hash);
+        // The camera path's content too: it determines the images like the scene's files do.
+        const std::string& cam = j.options.render.camera_path;
+        const std::string inputs =
+            " inputs=" + scenes[si].inputs_hash + (cam.empty() ? "" : " camera=" + hash_hex(read_text(cam)));
+        j.id = hash_hex(option_identity(j.options, s.scenes[si]) + inputs);
         if (std::any_of(jobs.begin(), jobs.end(), [&](const Job& o) { return o.id == j.id; })) continue;  // duplicate values
         Options no_seed = j.options;
         no_seed.render.seed = 0;
-        j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]) + " inputs=" + scenes[si].inputs_hash);
+        j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]) + inputs);
         if (s.needs_reference()) {
           const SceneData& sd = scenes[si];
           if (s.per_frame() && camera_moves(sd.scene, j.options)) {
