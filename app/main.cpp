@@ -1,12 +1,18 @@
-// The `restir` command line: render, info, compare, options. Every error becomes one line on
-// stderr and a non-zero exit status.
+// The `restir` command line: render, info, compare, options. Every error becomes one line
+// "error: ..." on stderr and one exit status: 0 ok, 1 bad input or runtime error, 2 usage (bad
+// flags, missing arguments), 130 interrupted.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <charconv>
+#include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/output_guard.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
 #include "image/tonemap.h"
@@ -24,6 +30,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A mistake in how the command was called (exit status 2), as opposed to bad input (1).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// CLI11's own range validators print DBL_MAX in full and say "0 not in range 0.000000 to ...".
+CLI::Validator integer_in(int64_t lo, int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        int64_t v = 0;
+        auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
+          return fmt::format("expected an integer in [{}, {}], got '{}'", lo, hi, text);
+        return {};
+      },
+      fmt::format("INT in [{}, {}]", lo, hi));
+}
+
 struct RenderArgs {
   std::string scene, out, png, average, frame_dir, timings, config;
   std::string integrator, res, tonemap;
@@ -33,10 +57,39 @@ struct RenderArgs {
   bool quiet = false;
 };
 
+std::string one_line(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::replace(s.begin(), s.end(), '\r', ' ');
+  return s;
+}
+
 std::string replace_extension(const std::string& path, const char* ext) {
   fs::path p(path);
   p.replace_extension(ext);
   return p.string();
+}
+
+// Every output of the render, checked (and its folder created) before the render starts.
+std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const Options& o) {
+  std::vector<OutputFile> outs;
+  if (!a.out.empty()) outs.push_back({a.out, "-o", {".exr"}});
+  if (!a.png.empty()) outs.push_back({a.png, "--png", {".png"}});
+  if (!a.average.empty()) outs.push_back({a.average, "--average", {".exr"}});
+  if (!a.timings.empty()) outs.push_back({a.timings, "--timings", {".csv"}});
+  if (!a.frame_dir.empty()) {
+    outs.push_back({a.frame_dir, "--frame-dir", {}, true});
+    for (int f = 0; f < std::min(o.render.frames, 10000); ++f)
+      outs.push_back({fmt::format("{}/frame_{:04d}.exr", a.frame_dir, f), "--frame-dir", {".exr"}});
+  }
+  const std::string main_out = !a.out.empty() ? a.out : (!a.png.empty() ? a.png : a.average);
+  std::string sidecar = main_out.empty() ? "" : replace_extension(main_out, ".json");
+  if (!sidecar.empty()) outs.push_back({sidecar, "the JSON sidecar of " + main_out, {".json"}, false, true});
+  std::vector<std::string> inputs = scene.input_files;
+  if (inputs.empty()) inputs.push_back(a.scene);
+  if (!a.config.empty()) inputs.push_back(a.config);
+  if (!o.render.camera_path.empty()) inputs.push_back(o.render.camera_path);
+  check_outputs(outs, inputs);
+  return sidecar;
 }
 
 void write_outputs(const std::string& exr, const std::string& png, const Image& img, const Options& o,
@@ -46,6 +99,8 @@ void write_outputs(const std::string& exr, const std::string& png, const Image& 
 }
 
 int run_render(const RenderArgs& a) {
+  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
+    throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
   Scene scene = load_scene(a.scene);
   Options o;
   apply_scene_hints(o, scene.hints);
@@ -66,9 +121,7 @@ int run_render(const RenderArgs& a) {
   for (const auto& s : a.sets) set_option_assignment(o, s);
   validate_options(o);
   find_integrator(o.integrator);  // fail before any output if the name is unknown
-  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
-    throw OptionError("no output: give -o OUT.exr and/or --png OUT.png");
-  if (!a.frame_dir.empty()) fs::create_directories(a.frame_dir);
+  const std::string sidecar = check_render_outputs(a, scene, o);
 
   const std::string config_json = options_to_json(o, -1);
   std::vector<std::pair<std::string, std::string>> meta = {
@@ -96,15 +149,16 @@ int run_render(const RenderArgs& a) {
     for (size_t i = 0; i < r.frame_ms.size(); ++i) csv += fmt::format("{},{:.3f}\n", i, r.frame_ms[i]);
     write_text_file_atomic(a.timings, csv);
   }
-  // JSON sidecar beside the main output: configuration, scene, version and timings.
-  const std::string main_out = !a.out.empty() ? a.out : (!a.png.empty() ? a.png : a.average);
-  if (!main_out.empty()) {
+  // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
+  // key lets a later run tell its own sidecar from a user's JSON file of the same name.
+  if (!sidecar.empty()) {
     nlohmann::ordered_json side;
+    side[kSidecarMarker] = 1;
     side["version"] = RESTIR_VERSION;
     side["scene"] = a.scene;
     side["config"] = nlohmann::ordered_json::parse(config_json);
     side["frame_ms"] = r.frame_ms;
-    write_text_file_atomic(replace_extension(main_out, ".json"), side.dump(2) + "\n");
+    write_text_file_atomic(sidecar, side.dump(2) + "\n");
   }
   if (!a.quiet) {
     double total = 0;
@@ -173,7 +227,19 @@ int run_info(const std::string& path) {
   return 0;
 }
 
+// Display-referred (tone-mapped, sRGB 8-bit) files against scene-linear ones give meaningless metrics.
+bool display_referred(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp" || e == ".tga";
+}
+
 int run_compare(const std::string& a, const std::string& b, bool json) {
+  if (display_referred(a) != display_referred(b))
+    throw std::runtime_error(fmt::format("compare: '{}' is {} but '{}' is {}: the metrics would be meaningless; compare "
+                                         "two linear images (EXR) or two tone-mapped ones", a,
+                                         display_referred(a) ? "tone-mapped (8-bit sRGB)" : "linear HDR", b,
+                                         display_referred(b) ? "tone-mapped (8-bit sRGB)" : "linear HDR"));
   Image test = read_image(a), ref = read_image(b);
   double m = mse(test, ref), r = rel_mse(test, ref), e = mean_abs_error(test, ref);
   double lt = image_stats(test).mean_luminance, lr = image_stats(ref).mean_luminance;
@@ -203,11 +269,11 @@ int main(int argc, char** argv) {
   render->add_option("--frame-dir", ra.frame_dir, "write every frame as DIR/frame_NNNN.exr");
   render->add_option("--timings", ra.timings, "CSV of per-frame wall time");
   render->add_option("--integrator", ra.integrator, "integrator name (= --set integrator=NAME)");
-  render->add_option("--spp", ra.spp, "samples per pixel (= --set render.spp=N)")->check(CLI::PositiveNumber);
+  render->add_option("--spp", ra.spp, "samples per pixel (= --set render.spp=N)")->check(integer_in(1, INT_MAX));
   render->add_option("--res", ra.res, "resolution WxH (= film.width / film.height)");
-  render->add_option("--seed", ra.seed, "random seed (= render.seed)")->check(CLI::NonNegativeNumber);
-  render->add_option("--frames", ra.frames, "frames in the sequence (= render.frames)")->check(CLI::PositiveNumber);
-  render->add_option("--threads", ra.threads, "worker threads, 0 = all (= render.threads)")->check(CLI::NonNegativeNumber);
+  render->add_option("--seed", ra.seed, "random seed (= render.seed)")->check(integer_in(0, INT64_MAX));
+  render->add_option("--frames", ra.frames, "frames in the sequence (= render.frames)")->check(integer_in(1, INT_MAX));
+  render->add_option("--threads", ra.threads, "worker threads, 0 = all (= render.threads)")->check(integer_in(0, INT_MAX));
   render->add_option("--tonemap", ra.tonemap, "PNG tone mapper (= output.tonemap)");
   render->add_option("--set", ra.sets, "set any option: key=value (repeatable; see `restir options`)");
   render->add_option("--config", ra.config, "JSON file of options (applied before --set)");
@@ -241,15 +307,30 @@ int main(int argc, char** argv) {
   study_cmd->add_option("study", sa.study, "built-in study name (see --list) or path to a study JSON file");
   study_cmd->add_option("--out", sa.out, "output folder (results, references, images, plots, report.html)");
   study_cmd->add_flag("--quick", sa.quick, "apply the study's \"quick\" block (tiny resolution, few seeds and frames)");
-  study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(CLI::PositiveNumber);
+  study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(integer_in(1, INT_MAX));
   study_cmd->add_flag("--list", study_list, "list the built-in studies");
   study_cmd->add_flag("-q,--quiet", sa.quiet, "no progress or summary on stderr");
   study_cmd->footer("Resumable: rows already in OUT/results.json are not recomputed. Format: studies/README.md.");
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
+    std::string msg = e.what();
+    const char* commands = "render, info, compare, study, options";
+    if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
+    else if (argv[1][0] != '-' &&
+             std::string(" render info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+      msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
+    return 2;
   }
   try {
     if (*render) return run_render(ra);
@@ -261,8 +342,8 @@ int main(int argc, char** argv) {
         for (const auto& [name, description] : study::list_studies()) fmt::print("{:<18} {}\n", name, description);
         return 0;
       }
-      if (sa.study.empty()) throw std::runtime_error("study: give a study name or file (or --list)");
-      if (sa.out.empty()) throw std::runtime_error("study: --out DIR is required");
+      if (sa.study.empty()) throw UsageError("study: give a study name or file (or --list)");
+      if (sa.out.empty()) throw UsageError("study: --out DIR is required");
       return study::run_study(sa);
     }
     if (*options) {
@@ -271,8 +352,11 @@ int main(int argc, char** argv) {
       fmt::print("Integrators:\n{}\n{}", integrators, options_help());
       return 0;
     }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "error: %s; see `restir --help`\n", one_line(e.what()).c_str());
+    return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", one_line(e.what()).c_str());
     return 1;
   }
   return 0;

@@ -287,7 +287,7 @@ TEST_CASE("pbrt: every bad input is a SceneError naming file and line") {
       {kWorld + "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n", "bad.pbrt:3: unsupported directive 'MakeNamedMedium'"},
       {kWorld + "Material \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", "bad.pbrt:3: parameter \"spectrum eta\": unsupported named spectrum"},
       {kWorld + "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 5]\n",
-       "bad.pbrt:3: trianglemesh: vertex index 5 out of range"},
+       "bad.pbrt:3: parameter \"integer indices\": vertex index 5 is out of range"},
       {kWorld + "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 1]\n", "bad.pbrt:3: trianglemesh: \"integer indices\" required"},
       {kWorld + "Shape \"disk\"\n", "bad.pbrt:3: unsupported shape 'disk'"},
       {kWorld + "Shape \"sphere\" \"float radius\" 1 \"float alpha\" 0.5\n", "bad.pbrt:3: parameter \"float alpha\": unused"},

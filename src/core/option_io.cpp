@@ -1,5 +1,7 @@
 #include "core/option_io.h"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -53,10 +55,11 @@ void parse_value(std::string_view key, std::string_view text, float& out) {
 void parse_value(std::string_view, std::string_view text, std::string& out) { out = std::string(text); }
 
 void check_range(std::string_view key, double v, Range r) {
-  if (v < r.lo || v > r.hi) {
-    char buf[160];
-    std::snprintf(buf, sizeof(buf), "' is out of range [%g, %g]", r.lo, r.hi);
-    throw OptionError("option '" + std::string(key) + "': '" + format_value(float(v)) + buf);
+  if (!(v >= r.lo && v <= r.hi)) {  // NaN is out of every range
+    // Shortest round-trip text: 2000000000, not 2e+09; an open end reads "inf".
+    auto num = [](double d) { return std::isinf(d) ? std::string(d > 0 ? "inf" : "-inf") : fmt::format("{}", d); };
+    throw OptionError("option '" + std::string(key) + "': value " + num(v) + " is out of range [" + num(r.lo) + ", " +
+                      num(r.hi) + "]");
   }
 }
 

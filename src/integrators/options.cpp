@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -42,7 +43,7 @@ void apply_json_node(Options& o, const nlohmann::json& j, const std::string& pre
     } else if (v.is_number_integer() || v.is_number_unsigned()) {
       set_option(o, key, v.dump());
     } else if (v.is_number_float()) {
-      set_option(o, key, format_value(v.get<float>()));
+      set_option(o, key, fmt::format("{}", v.get<double>()));  // not via float: 1e300 must stay out of range
     } else {
       throw OptionError("config: option '" + key + "' has an unsupported JSON type");
     }
@@ -63,13 +64,19 @@ void apply_options_json(Options& o, std::string_view text) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::out_of_range& e) {  // a number beyond double's range (1e400)
+    std::string what = e.what();
+    auto at = what.find("] ");
+    throw OptionError("config: invalid JSON: " + (at == std::string::npos ? what : what.substr(at + 2)));
+  } catch (const nlohmann::json::exception& e) {
     throw OptionError(std::string("config: invalid JSON: ") + e.what());
   }
   apply_json_node(o, j, "");
 }
 
 void apply_options_file(Options& o, const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw OptionError("config: '" + path + "' is a directory, not a JSON file");
   std::ifstream in(path);
   if (!in) throw OptionError("config: cannot open '" + path + "'");
   std::stringstream ss;
@@ -111,6 +118,9 @@ void validate_options(const Options& o) {
   // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
   if ((o.integrator == "restir-pt" || o.integrator == "restir-gi") && (o.path.max_depth < 1 || o.path.max_depth > 64))
     throw OptionError(fmt::format("path.max_depth = {}: {} renders 1 to 64 bounces", o.path.max_depth, o.integrator));
+  // No candidate at all: every ReSTIR DI pixel would be black, silently.
+  if (o.integrator == "restir-di" && o.di.light_candidates == 0 && o.di.bsdf_candidates == 0)
+    throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");
 }
 
 }  // namespace rl

@@ -1,5 +1,7 @@
 #include "integrators/render.h"
 
+#include <fmt/format.h>
+
 #include <unistd.h>
 
 #include <chrono>
@@ -15,12 +17,22 @@
 namespace rl {
 
 void apply_scene_hints(Options& o, const SceneHints& h) {
-  if (h.width) set_option(o, "film.width", std::to_string(*h.width));
-  if (h.height) set_option(o, "film.height", std::to_string(*h.height));
-  if (h.spp) set_option(o, "render.spp", std::to_string(*h.spp));
-  if (h.max_depth) set_option(o, "path.max_depth", std::to_string(*h.max_depth));
-  if (h.pixel_filter) set_option(o, "film.filter", *h.pixel_filter);
-  if (h.filter_radius) set_option(o, "film.filter_radius", format_value(*h.filter_radius));
+  // A value the options refuse is reported where the scene file gave it (h.where: "file:line: ...").
+  auto set = [&](const char* key, const std::string& value) {
+    try {
+      set_option(o, key, value);
+    } catch (const OptionError& e) {
+      auto w = h.where.find(key);
+      if (w == h.where.end()) throw;
+      throw OptionError(w->second + ": " + e.what());
+    }
+  };
+  if (h.width) set("film.width", std::to_string(*h.width));
+  if (h.height) set("film.height", std::to_string(*h.height));
+  if (h.spp) set("render.spp", std::to_string(*h.spp));
+  if (h.max_depth) set("path.max_depth", std::to_string(*h.max_depth));
+  if (h.pixel_filter) set("film.filter", *h.pixel_filter);
+  if (h.filter_radius) set("film.filter_radius", fmt::format("{}", *h.filter_radius));
 }
 
 namespace {

@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -79,7 +80,19 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
 
 Accel::~Accel() = default;
 
+namespace {
+// The one guard in front of Embree: it asserts (RTCRay::valid) on a non-finite origin or direction,
+// an origin beyond ~1.8e18 or a negative/NaN tnear. The loaders refuse scenes that could produce
+// such rays; anything that still gets here (a NaN from a degenerate sample) hits nothing.
+bool embree_safe(const Ray& r) {
+  constexpr float kLarge = 1e18f;
+  return is_finite(r.o) && is_finite(r.d) && std::fabs(r.o.x) < kLarge && std::fabs(r.o.y) < kLarge &&
+         std::fabs(r.o.z) < kLarge && std::isfinite(r.tmin) && r.tmin >= 0 && !std::isnan(r.tmax) && r.tmax >= r.tmin;
+}
+}  // namespace
+
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  if (!embree_safe(ray)) return false;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -108,6 +121,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::occluded(const Ray& ray) const {
+  if (!embree_safe(ray)) return false;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay r;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -82,7 +83,12 @@ Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& wher
   Vec3 v;
   for (int i = 0; i < 3; ++i) {
     if (!j[key][size_t(i)].is_number()) throw std::runtime_error(fmt::format("{}: '{}' must hold numbers", where, key));
-    v[i] = j[key][size_t(i)].get<float>();
+    double d = j[key][size_t(i)].get<double>();
+    // Beyond the world extent a camera puts rays where Embree cannot trace them.
+    if (!(std::fabs(d) <= kMaxWorldCoordinate))
+      throw std::runtime_error(fmt::format("{}: '{}' value {} is out of range [-{:g}, {:g}]", where, key, d,
+                                           kMaxWorldCoordinate, kMaxWorldCoordinate));
+    v[i] = float(d);
   }
   return v;
 }
@@ -96,7 +102,7 @@ void load_camera_path(const std::string& path, Camera& camera) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(ss.str());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e400
     throw std::runtime_error(fmt::format("{}: invalid JSON: {}", path, e.what()));
   }
   if (!j.is_object() || !j.contains("keys") || !j["keys"].is_array() || j["keys"].empty())
@@ -112,7 +118,8 @@ void load_camera_path(const std::string& path, Camera& camera) {
       throw std::runtime_error(where + ": eye, target and up do not define a camera");
     if (k.contains("fov")) {
       if (!k["fov"].is_number()) throw std::runtime_error(where + ": 'fov' must be a number");
-      key.fov_degrees = k["fov"].get<float>();
+      double fov = k["fov"].get<double>();
+      key.fov_degrees = std::isfinite(fov) && std::fabs(fov) < 1e6 ? float(fov) : -1.0f;
       if (!(key.fov_degrees > 0 && key.fov_degrees < 180)) throw std::runtime_error(where + ": 'fov' must be in (0, 180)");
     } else if (!camera.keys.empty()) {
       key.fov_degrees = camera.keys.front().fov_degrees;

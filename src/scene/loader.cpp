@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 
 #include "image/image_io.h"
 #include "scene/ply.h"
+#include "scene/scene_checks.h"
 
 namespace rl {
 
@@ -127,10 +129,20 @@ static std::string lower_extension(const std::string& path) {
 }
 
 static void finish_mesh_scene(Scene& s) {
+  if (s.meshes.empty()) throw SceneError(s.source_path, 0, "the file contains no triangles");
   if (s.camera.keys.empty()) s.camera.keys.push_back(default_camera(s.bounds()));
 }
 
+Scene load_pbrt(const std::string& path) {
+  Scene s = detail::parse_pbrt(path);
+  validate_scene(s);
+  warn_if_no_lights(s);
+  return s;
+}
+
 Scene load_scene(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path, 0, "is a directory, not a scene file");
   std::string ext = lower_extension(path);
   if (ext == "pbrt") return load_pbrt(path);
   {
@@ -139,6 +151,7 @@ Scene load_scene(const std::string& path) {
   }
   Scene s;
   s.source_path = path;
+  s.input_files.push_back(path);
   s.materials.push_back(Material{});
   s.materials[0].name = "default";
   detail::MeshImport opt;
@@ -162,6 +175,8 @@ Scene load_scene(const std::string& path) {
     throw SceneError(path, 0, "unknown scene file extension '." + ext + "' (expected .pbrt, .obj, .gltf, .glb or .ply)");
   }
   finish_mesh_scene(s);
+  validate_scene(s);
+  warn_if_no_lights(s);
   return s;
 }
 

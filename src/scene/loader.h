@@ -61,6 +61,9 @@ TriangleMesh make_world_mesh(const std::vector<Vec3>& p, const std::vector<Vec3>
                              const std::vector<uint32_t>& indices, const Mat4& world_from_object,
                              bool reverse_orientation);
 
+// The pbrt parser proper (load_pbrt = parse_pbrt + validate_scene + the no-light warning).
+Scene parse_pbrt(const std::string& path);
+
 // Applies a further transform to an already world-space mesh (object instancing).
 void transform_mesh(TriangleMesh& mesh, const Mat4& xf);
 

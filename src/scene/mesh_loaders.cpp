@@ -77,6 +77,7 @@ void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, st
           t.name = mt.diffuse_texname;
           fs::path tp(mt.diffuse_texname);
           std::string full = tp.is_absolute() ? tp.string() : (fs::path(dir) / tp).string();
+          scene.input_files.push_back(full);
           t.image = read_image_for(full, path, 0);
           scene.textures.push_back(std::move(t));
           m.reflectance_texture = int(scene.textures.size()) - 1;
@@ -114,22 +115,22 @@ void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, st
             g.idx.push_back(it->second);
             continue;
           }
-          if (ix.vertex_index < 0 || size_t(3 * ix.vertex_index + 2) >= at.vertices.size())
+          if (ix.vertex_index < 0 || (size_t(ix.vertex_index) * 3 + 2) >= at.vertices.size())
             throw SceneError(path, 0, "shape '" + sh.name + "': vertex index out of range");
           uint32_t id = uint32_t(g.p.size());
           g.remap[key] = id;
           g.idx.push_back(id);
-          const float* v = &at.vertices[size_t(3 * ix.vertex_index)];
+          const float* v = &at.vertices[(size_t(ix.vertex_index) * 3)];
           g.p.emplace_back(v[0], v[1], v[2]);
-          if (ix.normal_index >= 0 && size_t(3 * ix.normal_index + 2) < at.normals.size()) {
-            const float* n = &at.normals[size_t(3 * ix.normal_index)];
+          if (ix.normal_index >= 0 && (size_t(ix.normal_index) * 3 + 2) < at.normals.size()) {
+            const float* n = &at.normals[(size_t(ix.normal_index) * 3)];
             g.n.emplace_back(n[0], n[1], n[2]);
           } else {
             g.all_n = false;
             g.n.emplace_back(0, 0, 0);
           }
-          if (ix.texcoord_index >= 0 && size_t(2 * ix.texcoord_index + 1) < at.texcoords.size()) {
-            const float* t = &at.texcoords[size_t(2 * ix.texcoord_index)];
+          if (ix.texcoord_index >= 0 && (size_t(ix.texcoord_index) * 2 + 1) < at.texcoords.size()) {
+            const float* t = &at.texcoords[(size_t(ix.texcoord_index) * 2)];
             g.uv.emplace_back(t[0], t[1]);
           } else {
             g.all_uv = false;
@@ -354,6 +355,11 @@ void import_gltf(const std::string& path, const MeshImport& opt, Scene& scene, s
   if (!ok) throw SceneError(path, 0, "cannot read glTF: " + one_line(err.empty() ? warn : err));
   if (!warn.empty()) std::fprintf(stderr, "%s: warning: %s\n", path.c_str(), one_line(warn).c_str());
 
+  // External buffers and images are inputs too (never written onto, part of a study's hash).
+  for (const auto& b : model.buffers)
+    if (!b.uri.empty() && !b.uri.starts_with("data:")) scene.input_files.push_back((fs::path(path).parent_path() / b.uri).string());
+  for (const auto& im : model.images)
+    if (!im.uri.empty() && !im.uri.starts_with("data:")) scene.input_files.push_back((fs::path(path).parent_path() / im.uri).string());
   GltfCtx c{model, path, opt, scene, out, {}, {}, camera};
   if (opt.use_file_materials) {
     for (const tinygltf::Material& gm : model.materials) {
@@ -383,6 +389,9 @@ void import_gltf(const std::string& path, const MeshImport& opt, Scene& scene, s
         e = Rgb(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]), float(gm.emissiveFactor[2]));
       if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
         if (it->second.Has("emissiveStrength")) e *= float(it->second.Get("emissiveStrength").GetNumberAsDouble());
+      // A negative or non-finite emission is not "no emission": refuse it rather than drop it.
+      if (!is_finite(e) || e.x < 0 || e.y < 0 || e.z < 0)
+        throw SceneError(path, 0, "material '" + gm.name + "': emissiveFactor (x emissiveStrength) must be finite and >= 0");
       c.mat_emit.push_back(max_component(e) > 0 ? std::optional<AreaEmission>(AreaEmission{e, gm.doubleSided}) : std::nullopt);
       scene.materials.push_back(m);
       c.mat_index.push_back(int(scene.materials.size()) - 1);

@@ -28,6 +28,7 @@ Material make_material(const Token& d, const std::string& type, const std::strin
   auto roughness = [&] {
     // pbrt-v4: uroughness/vroughness default to "roughness" (default 0); remaproughness (default
     // true) maps through TrowbridgeReitzDistribution::RoughnessToAlpha(r) = sqrt(r).
+    for (const char* k : {"roughness", "uroughness", "vroughness"}) pl.check_range(k, 0);
     float r = pl.get_float("roughness", 0);
     float u = pl.get_float("uroughness", r), v = pl.get_float("vroughness", r);
     if (u < 0 || v < 0) d.fail(type + ": negative roughness");
@@ -35,6 +36,13 @@ Material make_material(const Token& d, const std::string& type, const std::strin
     m.alpha_x = remap ? std::sqrt(u) : u;
     m.alpha_y = remap ? std::sqrt(v) : v;
   };
+  // Physical ranges (a reflectance above 1 creates energy; eta <= 0 or k < 0 have no meaning).
+  if (type == "diffuse" || type == "conductor") pl.check_range("reflectance", 0, 1);
+  if (type == "conductor") {
+    pl.check_range("eta", 0, HUGE_VAL, true);
+    pl.check_range("k", 0);
+  }
+  if (type == "dielectric") pl.check_range("eta", 0, HUGE_VAL, true);
   if (type == "diffuse") {
     m.type = Material::Type::diffuse;
     m.reflectance_texture = reflectance_texture(pl, "reflectance", nt);
@@ -106,6 +114,7 @@ Texture make_texture(const Token& d, const std::string& name, const std::string&
                      const std::function<std::string(const std::string&)>& resolve) {
   Texture t;
   t.name = name;
+  for (const char* k : {"tex1", "tex2", "value", "tex"}) pl.check_range(k, 0);
   t.uscale = pl.get_float("uscale", 1);
   t.vscale = pl.get_float("vscale", 1);
   t.udelta = pl.get_float("udelta", 0);
@@ -117,6 +126,7 @@ Texture make_texture(const Token& d, const std::string& name, const std::string&
     if (f.empty()) d.fail("imagemap: missing \"string filename\"");
     t.kind = Texture::Kind::image;
     t.image = detail::read_image_for(resolve(f), *d.file, d.line);
+    pl.check_range("scale", 0);
     float sc = pl.get_float("scale", 1);
     bool inv = pl.get_bool("invert", false);
     for (Rgb& c : t.image.pixels) c = inv ? Rgb(1) - c * sc : c * sc;

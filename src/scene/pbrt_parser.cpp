@@ -14,9 +14,12 @@
 // top-level scene file, falling back to the directory of the file that contains the directive;
 // Include/Import try the including file's directory first, then the top-level one.
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+
+#include <fmt/format.h>
 
 #include "scene/loader.h"
 #include "scene/pbrt_tokenizer.h"
@@ -49,6 +52,11 @@ struct Instance {
   std::vector<Sphere> spheres;
 };
 
+bool within_world(Vec3 p) {
+  return std::fabs(p.x) <= kMaxWorldCoordinate && std::fabs(p.y) <= kMaxWorldCoordinate &&
+         std::fabs(p.z) <= kMaxWorldCoordinate;  // false for NaN
+}
+
 class Parser {
  public:
   explicit Parser(const std::string& path) : main_path_(path) {
@@ -74,6 +82,7 @@ class Parser {
     }
     if (!in_world_) throw SceneError(main_path_, 0, "no WorldBegin in the scene file");
     if (scene_.camera.keys.empty()) scene_.camera.keys.push_back(CameraKey{});  // pbrt default: fov 90 at the origin
+    for (const std::string& f : tok_.files()) scene_.input_files.push_back(f);
     return std::move(scene_);
   }
 
@@ -87,14 +96,18 @@ class Parser {
   float expect_number(const Token& d) {
     Token t = tok_.next();
     if (t.kind != Kind::word) d.fail(d.text + ": expected a number");
+    float v = 0;
     try {
       size_t pos = 0;
-      float v = std::stof(t.text, &pos);
+      v = std::stof(t.text, &pos);
       if (pos != t.text.size()) throw std::invalid_argument(t.text);
-      return v;
+    } catch (const std::out_of_range&) {
+      t.fail(d.text + ": value '" + t.text + "' is not a finite number");
     } catch (const std::exception&) {
       t.fail(d.text + ": expected a number, got '" + t.text + "'");
     }
+    if (!std::isfinite(v)) t.fail(d.text + ": value '" + t.text + "' is not a finite number");
+    return v;
   }
   std::vector<float> expect_numbers(const Token& d, int n) {  // "[ n numbers ]" or n bare numbers
     bool br = tok_.peek().kind == Kind::lbracket;
@@ -111,9 +124,19 @@ class Parser {
     if (include_first) return fs::exists(here) || !fs::exists(top) ? here.string() : top.string();
     return fs::exists(top) || !fs::exists(here) ? top.string() : here.string();
   }
-  void apply(const Mat4& m, bool post = true) {
-    for (int i = 0; i < 2; ++i)
-      if (active_ & (1 << i)) gs_.ctm[i] = post ? gs_.ctm[i] * m : m;
+  // Every transform must stay finite and invertible: a singular or overflowing CTM would give
+  // non-finite geometry or rays later, far from the directive that caused it.
+  void apply(const Token& d, const Mat4& m, bool post = true) {
+    for (int i = 0; i < 2; ++i) {
+      if (!(active_ & (1 << i))) continue;
+      Mat4 r = post ? gs_.ctm[i] * m : m, inv;
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          if (!std::isfinite(r.m[a][b])) d.fail(d.text + ": the current transform overflows (non-finite matrix)");
+      if (!std::isfinite(r.det3())) d.fail(d.text + ": the current transform overflows (its determinant is not finite)");
+      if (!r.inverse(inv) || r.det3() == 0) d.fail(d.text + ": the current transform becomes singular");
+      gs_.ctm[i] = r;
+    }
   }
   void need_world(const Token& d, bool world) {
     if (world && !in_world_) d.fail(d.text + " is not allowed before WorldBegin");
@@ -126,23 +149,28 @@ class Parser {
       std::string f = resolve(expect_string(d), d, true);
       tok_.push_file(f, *d.file, d.line);
     } else if (n == "Identity") {
-      apply(Mat4::identity(), false);
+      apply(d, Mat4::identity(), false);
     } else if (n == "Translate") {
       auto v = expect_numbers(d, 3);
-      apply(translate(Vec3(v[0], v[1], v[2])));
+      apply(d, translate(Vec3(v[0], v[1], v[2])));
     } else if (n == "Scale") {
       auto v = expect_numbers(d, 3);
-      apply(scale(Vec3(v[0], v[1], v[2])));
+      if (v[0] == 0 || v[1] == 0 || v[2] == 0) d.fail("Scale: a zero factor makes the transform singular");
+      apply(d, scale(Vec3(v[0], v[1], v[2])));
     } else if (n == "Rotate") {
       auto v = expect_numbers(d, 4);
       if (v[1] == 0 && v[2] == 0 && v[3] == 0) d.fail("Rotate: zero axis");
-      apply(rotate(v[0], Vec3(v[1], v[2], v[3])));
+      apply(d, rotate(v[0], Vec3(v[1], v[2], v[3])));
     } else if (n == "LookAt") {
       auto v = expect_numbers(d, 9);
+      for (int i = 0; i < 6; ++i)
+        if (std::fabs(v[size_t(i)]) > kMaxWorldCoordinate)
+          d.fail(fmt::format("LookAt: {} {} lies beyond the supported world extent (|x| <= {:g})", i < 3 ? "eye" : "target",
+                             v[size_t(i)], kMaxWorldCoordinate));
       Mat4 m;
       if (!look_at(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), Vec3(v[6], v[7], v[8]), m))
         d.fail("LookAt: degenerate (eye == target or up parallel to the view direction)");
-      apply(m);
+      apply(d, m);
     } else if (n == "Transform" || n == "ConcatTransform") {
       auto v = expect_numbers(d, 16);
       Mat4 m;  // pbrt gives the matrix column by column: m[row][col] = v[col*4 + row]
@@ -150,7 +178,7 @@ class Parser {
         for (int c = 0; c < 4; ++c) m.m[r][c] = v[size_t(c * 4 + r)];
       Mat4 inv;
       if (!m.inverse(inv)) d.fail(n + ": singular matrix");
-      apply(m, n == "ConcatTransform");
+      apply(d, m, n == "ConcatTransform");
     } else if (n == "CoordinateSystem") {
       named_cs_[expect_string(d)] = {gs_.ctm[0], gs_.ctm[1]};
     } else if (n == "CoordSysTransform") {
@@ -231,6 +259,8 @@ class Parser {
       need_world(d, true);
       if (type != "diffuse") d.fail("unsupported area light '" + type + "' (only \"diffuse\")");
       AreaEmission e;
+      pl.check_range("L", 0);
+      pl.check_range("scale", 0);
       e.radiance = pl.get_rgb("L", true).value_or(Rgb(1)) * pl.get_float("scale", 1);
       e.two_sided = pl.get_bool("twosided", false);
       pl.check_unused("AreaLightSource \"diffuse\"");
@@ -295,6 +325,10 @@ class Parser {
     if (differ) scene_.camera.keys.push_back(CameraKey{gs_.ctm[1], fov});
     Mat4 w0, w1;
     if (!gs_.ctm[0].inverse(w0) || !gs_.ctm[1].inverse(w1)) d.fail("Camera: singular camera transform");
+    for (const Mat4* w : {&w0, &w1})
+      if (!within_world(w->apply_point(Vec3(0))))
+        d.fail("Camera: the camera position (from LookAt and the transforms before Camera) lies beyond the supported "
+               "world extent");
     named_cs_["camera"] = {w0, w1};
   }
 
@@ -305,19 +339,24 @@ class Parser {
     const std::string& n = d.text;
     SceneHints& h = scene_.hints;
     if (n == "Film") {  // pbrt-v4 defaults: 1280 x 720
+      pl.check_range("xresolution", 1);
+      pl.check_range("yresolution", 1);
       h.width = pl.get_int("xresolution", 1280);
       h.height = pl.get_int("yresolution", 720);
-      if (*h.width <= 0 || *h.height <= 0) d.fail("Film: resolution must be positive");
+      note_hint(d, pl, "xresolution", "film.width");
+      note_hint(d, pl, "yresolution", "film.height");
       if (pl.find("filename") && !warned_filename_) {
         warned_filename_ = true;
         warn(d, "Film \"filename\" ignored (the output path comes from the options)");
       }
     } else if (n == "Sampler") {
+      pl.check_range("pixelsamples", 1);
       h.spp = pl.get_int("pixelsamples", 16);
-      if (*h.spp <= 0) d.fail("Sampler: pixelsamples must be positive");
+      note_hint(d, pl, "pixelsamples", "render.spp");
     } else if (n == "Integrator") {
+      pl.check_range("maxdepth", 0);
       h.max_depth = pl.get_int("maxdepth", 5);
-      if (*h.max_depth < 0) d.fail("Integrator: maxdepth must be >= 0");
+      note_hint(d, pl, "maxdepth", "path.max_depth");
     } else {
       float def = 0;
       if (type == "box") def = 0.5f;
@@ -325,12 +364,23 @@ class Parser {
       else if (type == "gaussian") def = 1.5f;
       else d.fail("unsupported pixel filter '" + type + "' (box, triangle, gaussian)");
       h.pixel_filter = type;
+      pl.check_range("xradius", 0, HUGE_VAL, true);
+      pl.check_range("yradius", 0, HUGE_VAL, true);
       h.filter_radius = pl.get_float("xradius", def);
+      note_hint(d, pl, "xradius", "film.filter_radius");
       if (pl.get_float("yradius", *h.filter_radius) != *h.filter_radius)
         warn(d, "PixelFilter: yradius != xradius; using xradius for both");
-      if (!(*h.filter_radius > 0)) d.fail("PixelFilter: radius must be positive");
     }
     for (const std::string& u : pl.unused()) warn(d, n + ": parameter \"" + u + "\" ignored");
+  }
+
+  // Remembers where a render hint came from, so that a value the options refuse (xresolution
+  // 100000) is reported at its file:line with the parameter's name.
+  void note_hint(const Token& d, const ParamList& pl, const char* param, const char* option) {
+    for (const pbrt::Param& p : pl.params)
+      if (p.name == param)
+        scene_.hints.where[option] = (p.file ? *p.file : "?") + ":" + std::to_string(p.line) + ": " + d.text +
+                                     " parameter \"" + p.type + " " + p.name + "\"";
   }
 
   // Defined in the second half of this file.
@@ -343,7 +393,11 @@ class Parser {
     if (type != "spectrum" && type != "float") d.fail("Texture: type must be \"spectrum\" or \"float\", got '" + type + "'");
     auto& names = type == "spectrum" ? tex_names_.spectrum : tex_names_.floats;
     if (names.count(name)) d.fail("texture '" + name + "' redefined");
-    auto res = [&](const std::string& f) { return resolve(f, d, false); };
+    auto res = [&](const std::string& f) {
+      std::string path = resolve(f, d, false);
+      scene_.input_files.push_back(path);
+      return path;
+    };
     scene_.textures.push_back(pbrt::make_texture(d, name, cls, pl, tex_names_, scene_.textures, res));
     names[name] = int(scene_.textures.size()) - 1;
   }
@@ -382,11 +436,16 @@ bool uniform_scale(const Mat4& m, float& s) {
 
 void Parser::light(const Token& d, const std::string& type, const ParamList& pl) {
   if (current_instance_) d.fail("LightSource inside ObjectBegin is not supported");
+  pl.check_range("scale", 0);
+  pl.check_range("L", 0);
+  pl.check_range("I", 0);
+  pl.check_range("power", 0);
   float sc = pl.get_float("scale", 1);
   if (type == "point") {
     PointLight l;
     l.intensity = pl.get_rgb("I", true).value_or(Rgb(1)) * sc;
     l.position = gs_.ctm[0].apply_point(pl.get_point3("from", Vec3(0)));
+    if (!within_world(l.position)) d.fail("point light: \"from\" lies beyond the supported world extent after the transform");
     pl.check_unused("LightSource \"point\"");
     scene_.point_lights.push_back(l);
   } else if (type == "infinite") {
@@ -399,6 +458,7 @@ void Parser::light(const Token& d, const std::string& type, const ParamList& pl)
     if (!e.world_from_light.inverse(e.light_from_world)) d.fail("infinite light: singular transform");
     if (!f.empty()) {
       e.filename = resolve(f, d, false);
+      scene_.input_files.push_back(e.filename);
       e.image = detail::read_image_for(e.filename, *d.file, d.line);
       if (e.image.width == e.image.height) e.mapping = EnvironmentLight::Mapping::equal_area;
       else if (e.image.width == 2 * e.image.height) e.mapping = EnvironmentLight::Mapping::equirect;
@@ -433,7 +493,9 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
       }
       std::vector<uint32_t> ui;
       for (int i : idx) {
-        if (i < 0) d.fail("trianglemesh: negative vertex index");
+        if (i < 0 || size_t(i) >= P.size())
+          pl.find("indices")->fail("vertex index " + std::to_string(i) + " is out of range [0, " +
+                                   std::to_string(P.size() - 1) + "]");
         ui.push_back(uint32_t(i));
       }
       auto N = pl.get_normals("N");
@@ -447,9 +509,11 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
       std::string path = resolve(f, d, false);
       if (!fs::exists(path)) d.fail("plymesh: cannot open PLY file '" + path + "'");
       pl.check_unused("Shape \"plymesh\"");
+      scene_.input_files.push_back(path);
       PlyMesh pm = read_ply(path);
       out.push_back(detail::make_world_mesh(pm.positions, pm.normals, pm.uvs, pm.indices, xf, gs_.reverse));
     } else if (type == "sphere") {
+      pl.check_range("radius", 0, HUGE_VAL, true);
       float r = pl.get_float("radius", 1);
       float zmin = pl.get_float("zmin", -r), zmax = pl.get_float("zmax", r), phimax = pl.get_float("phimax", 360);
       if (zmin > -r || zmax < r || phimax < 360) d.fail("sphere: partial spheres (zmin/zmax/phimax) are not supported");
@@ -460,6 +524,9 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
       Sphere sp;
       sp.center = xf.apply_point(Vec3(0));
       sp.radius = r * s;
+      if (!within_world(sp.center) || !(sp.radius <= kMaxWorldCoordinate))
+        d.fail(fmt::format("sphere: \"radius\" {} lies beyond the supported world extent (|x| <= {:g}) after the transform",
+                           sp.radius, kMaxWorldCoordinate));
       sp.material = gs_.material;
       sp.emission = gs_.area;
       sp.flip_normal = gs_.reverse != (xf.det3() < 0);
@@ -472,6 +539,7 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
       std::string path = resolve(f, d, false);
       if (!fs::exists(path)) d.fail(type + ": cannot open file '" + path + "'");
       pl.check_unused("Shape \"" + type + "\"");
+      scene_.input_files.push_back(path);
       detail::MeshImport opt;
       opt.world_from_object = xf;
       opt.reverse_orientation = gs_.reverse;
@@ -490,7 +558,9 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
   } catch (const std::exception& e) {
     d.fail(type + ": " + e.what());
   }
+  if (type != "sphere" && out.size() == first) d.fail(type + ": the shape has no triangles");
   for (size_t i = first; i < out.size(); ++i) {
+    if (out[i].indices.empty()) d.fail(type + ": the shape has no triangles");
     out[i].material = gs_.material;
     out[i].emission = gs_.area;
     if (out[i].source.empty()) out[i].source = src;
@@ -520,7 +590,7 @@ void Parser::instantiate(const Token& d, const Instance& inst) {
 
 }  // namespace
 
-Scene load_pbrt(const std::string& path) {
+Scene detail::parse_pbrt(const std::string& path) {
   Parser p(path);
   return p.run();
 }

@@ -1,7 +1,14 @@
 #include "scene/pbrt_tokenizer.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cfloat>
 #include <charconv>
+#include <climits>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -13,13 +20,26 @@ void warn(const Token& t, const std::string& msg) {
 
 void Tokenizer::push_file(const std::string& path, const std::string& from_file, int from_line) {
   if (stack_.size() > 64) throw SceneError(from_file, from_line, "Include nesting too deep (recursive Include?)");
+  std::error_code ec;
+  // An ifstream opens a directory without complaint on Linux and then reads nothing.
+  if (std::filesystem::is_directory(path, ec))
+    throw SceneError(from_file, from_line, "'" + path + "' is a directory, not a scene file");
+  // A FIFO or a device (/dev/zero, /dev/stdin) would block or never end.
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw SceneError(from_file, from_line, "'" + path + "' is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(from_file, from_line, "cannot open file '" + path + "'");
   std::ostringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) throw SceneError(from_file, from_line, "cannot read file '" + path + "'");
   Source s;
   s.file = std::make_shared<const std::string>(path);
   s.text = ss.str();
+  if (s.text.starts_with("\xEF\xBB\xBF")) s.pos = 3;  // UTF-8 byte-order mark (editors on Windows add one)
+  if (s.text.find('\0') != std::string::npos)
+    throw SceneError(path, 1 + int(std::count(s.text.begin(), s.text.begin() + std::ptrdiff_t(s.text.find('\0')), '\n')),
+                     "NUL byte: this is a binary file, not a pbrt scene");
+  files_.push_back(path);
   stack_.push_back(std::move(s));
   peeked_.reset();
 }
@@ -121,7 +141,19 @@ static bool parse_number(const std::string& s, double& out) {
   const char* e = b + s.size();
   if (b != e && *b == '+') ++b;
   auto r = std::from_chars(b, e, out);
+  // out_of_range (1e400) is a number, just not a finite one: reported by the finiteness check.
+  if (r.ec == std::errc::result_out_of_range && r.ptr == e) {
+    out = (*b == '-') ? -HUGE_VAL : HUGE_VAL;
+    return true;
+  }
   return r.ec == std::errc() && r.ptr == e;
+}
+
+// Every number a scene hands the renderer is stored as a float: NaN, infinities and values beyond
+// FLT_MAX (which become infinities) are meaningless for every parameter.
+static void check_finite_number(const Token& v, const std::string& decl, double d) {
+  if (!std::isfinite(d) || std::fabs(d) > double(FLT_MAX))
+    v.fail("parameter \"" + decl + "\": value '" + v.text + "' is not a finite number");
 }
 
 static std::string canonical_type(const std::string& t) {
@@ -184,6 +216,7 @@ ParamList parse_params(Tokenizer& tok) {
       } else if (v.kind == Token::Kind::word && !want_strings) {
         double d;
         if (!parse_number(v.text, d)) v.fail("parameter \"" + decl.text + "\": expected a number, got '" + v.text + "'");
+        check_finite_number(v, decl.text, d);
         p.nums.push_back(d);
       } else {
         v.fail("parameter \"" + decl.text + "\": expected " + std::string(want_strings ? "a quoted string" : "a number") +
@@ -222,6 +255,29 @@ static void expect_count(const Param& p, size_t n) {
   if (have != n) p.fail("expected " + std::to_string(n) + " value(s), got " + std::to_string(have));
 }
 
+// Converting a double outside int's range to int is undefined behaviour: check first.
+static void check_int(const Param& p, double d) {
+  if (d < double(INT_MIN) || d > double(INT_MAX)) p.fail(fmt::format("value {} is out of the integer range", d));
+  if (d != std::floor(d)) p.fail(fmt::format("value {} is not an integer", d));
+}
+
+std::string format_number(double v) { return fmt::format("{}", v); }
+
+void ParamList::check_range(const std::string& name, double lo, double hi, bool lo_open) const {
+  const Param* p = nullptr;
+  for (const Param& q : params)
+    if (q.name == name) p = &q;
+  if (!p || p->type == "blackbody") return;  // blackbody: the temperature has its own check
+  for (double d : p->nums) {
+    bool below = lo_open ? !(d > lo) : !(d >= lo);
+    if (below || d > hi) {
+      std::string range = std::string(lo_open ? "(" : "[") + format_number(lo) + ", " +
+                          (std::isinf(hi) ? std::string("inf)") : format_number(hi) + "]");
+      p->fail(fmt::format("value {} is out of range {}", format_number(d), range));
+    }
+  }
+}
+
 float ParamList::get_float(const std::string& name, float def) const {
   const Param* p = typed(*this, name, {"float"});
   if (!p) return def;
@@ -233,7 +289,7 @@ int ParamList::get_int(const std::string& name, int def) const {
   const Param* p = typed(*this, name, {"integer"});
   if (!p) return def;
   expect_count(*p, 1);
-  if (p->nums[0] != double(int(p->nums[0]))) p->fail("not an integer");
+  check_int(*p, p->nums[0]);
   return int(p->nums[0]);
 }
 
@@ -271,7 +327,7 @@ std::vector<int> ParamList::get_ints(const std::string& name) const {
   std::vector<int> r;
   if (p)
     for (double d : p->nums) {
-      if (d != double(int(d))) p->fail("not an integer: " + std::to_string(d));
+      check_int(*p, d);
       r.push_back(int(d));
     }
   return r;
@@ -330,6 +386,7 @@ std::optional<Rgb> ParamList::get_rgb(const std::string& name, bool illuminant) 
             "' (supported: metal-{Au,Ag,Al,Cu,CuZn}-{eta,k}; spectrum files are not supported)");
   }
   if (p->nums.size() == 1) return Rgb(float(p->nums[0]));
+  if (p->nums.empty()) p->fail("expected a value");
   p->fail("sampled (wavelength, value) spectra are not supported; give a single value, rgb or a named spectrum");
 }
 

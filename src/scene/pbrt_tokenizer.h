@@ -1,5 +1,6 @@
 // pbrt-v4 scene-file tokens and parameter lists (internal to the scene loader).
 #pragma once
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -29,6 +30,8 @@ class Tokenizer {
   Token next();
   const Token& peek();
   const std::string& current_file() const;
+  // Every file pushed so far (the scene and what it includes), in order.
+  const std::vector<std::string>& files() const { return files_; }
 
  private:
   struct Source {
@@ -42,6 +45,7 @@ class Tokenizer {
   std::optional<Token> peeked_;
   std::shared_ptr<const std::string> last_file_;
   int last_line_ = 0;
+  std::vector<std::string> files_;
 };
 
 // One "type name" [values] entry.
@@ -77,6 +81,9 @@ class ParamList {
   // rgb / spectrum (single float, named metal spectra) / blackbody -> RGB. `illuminant`: blackbody
   // allowed (normalized to luminance 1, as pbrt-v4 normalizes lights by SpectrumToPhotometric).
   std::optional<Rgb> get_rgb(const std::string& name, bool illuminant) const;
+  // If the parameter is present, every number in it must lie in [lo, hi] ((lo, hi] with lo_open);
+  // otherwise throws SceneError naming file:line, the parameter and the range. Does not mark it used.
+  void check_range(const std::string& name, double lo, double hi = HUGE_VAL, bool lo_open = false) const;
   // Marks a parameter as read without interpreting it.
   void ignore(const std::string& name) const;
   // Throws for the first parameter nobody read (pbrt-v4: "unused parameter").
@@ -94,6 +101,9 @@ Rgb blackbody_rgb(float kelvin);
 std::optional<Rgb> named_spectrum_rgb(const std::string& name);
 // Index of refraction at the d line for pbrt-v4's named glasses ("glass-BK7", ...).
 std::optional<float> named_glass_ior(const std::string& name);
+
+// Shortest text that reads back as v (2000000000, not 2e+09).
+std::string format_number(double v);
 
 // Prints "FILE:LINE: warning: msg" to stderr.
 void warn(const Token& at, const std::string& msg);

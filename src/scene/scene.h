@@ -2,6 +2,7 @@
 // Filled by the loaders (pbrt-v4, OBJ, glTF, PLY); knows nothing about integrators or ReSTIR.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,11 @@
 #include "image/image.h"
 
 namespace rl {
+
+// Largest world coordinate (and sphere radius) a scene may use. Embree asserts on ray origins
+// beyond ~1.8e18 and float arithmetic on 1e30 overflows in squared distances; 1e12 is far beyond
+// any scene (a planet in millimetres) and keeps every product finite.
+inline constexpr float kMaxWorldCoordinate = 1e12f;
 
 // A texture: constant, an image map (bilinear, repeat), or a checkerboard in uv.
 struct Texture {
@@ -99,6 +105,9 @@ struct SceneHints {
   std::optional<int> width, height, spp, max_depth;
   std::optional<std::string> pixel_filter;       // "box" | "triangle" | "gaussian"
   std::optional<float> filter_radius;
+  // Where each hint was given ("file:line: Film \"integer xresolution\""), keyed by the option it
+  // sets (film.width, ...), so that an out-of-range value is reported at its source.
+  std::map<std::string, std::string> where;
 };
 
 // Unit geometric normal of triangle `tri` with pbrt-v4's orientation rule
@@ -125,6 +134,9 @@ struct Scene {
   Camera camera;
   SceneHints hints;
   std::string source_path;
+  // Every file the scene was read from (the scene, included files, meshes, images), for refusing
+  // to write an output onto an input and for content hashes.
+  std::vector<std::string> input_files;
 
   Bounds3 bounds() const;
   size_t triangle_count() const;

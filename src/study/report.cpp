@@ -102,6 +102,9 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
                    "resumed from results.json), {:.1f} s</li>\n",
                    s.scenes.size(), configs.size() / std::max<size_t>(1, s.scenes.size()), s.seeds.size(), s.frames,
                    info.jobs_run, info.jobs_total, info.seconds);
+  if (info.stale_rows > 0)
+    h += fmt::format("<li>{} stored row(s) were stale (computed from older scene files, meshes, textures or renderer "
+                     "version) and were recomputed</li>\n", info.stale_rows);
   h += fmt::format("<li>references: path tracer, {} spp; {} rendered now, {} reused from <code>references/</code></li>\n",
                    s.reference.spp, info.references_rendered, info.references_reused);
   h += fmt::format("<li>machine: {}</li>\n<li>build: {}</li>\n", esc(machine_description()), esc(build_description()));

@@ -24,6 +24,7 @@ struct ReportInfo {
   bool quick = false;
   int references_rendered = 0, references_reused = 0;
   size_t jobs_run = 0, jobs_total = 0;
+  size_t stale_rows = 0;  // stored rows recomputed because their inputs changed
   double seconds = 0;
 };
 

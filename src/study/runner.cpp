@@ -42,6 +42,7 @@ extern "C" void on_signal(int sig) {
 
 struct SceneData {
   std::string as_written, path, text;
+  std::string inputs_hash;  // content of every file the scene was read from + the binary's version
   Scene scene;
   Options defaults;  // defaults < scene hints
 };
@@ -61,6 +62,38 @@ std::string read_text(const std::string& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// Everything outside the options that determines a row: the contents of the scene file and of
+// every file it reads (includes, meshes, textures, env maps), and the renderer's version. Part of
+// each row's id, so editing a scene makes its old rows stale (recomputed), never silently reused.
+std::string inputs_hash(const Scene& scene, const std::string& path) {
+  std::string text = std::string("version=") + RESTIR_VERSION;
+  std::vector<std::string> files = scene.input_files;
+  if (files.empty()) files.push_back(path);
+  for (const std::string& f : files) text += "\nfile " + f + " " + hash_hex(read_text(f));
+  return hash_hex(text);
+}
+
+// Ids of the stored rows for the same scene, seed and options as a current job but another id:
+// computed from inputs that have changed since. They are dropped once the study completes.
+std::set<std::string> stale_ids(const std::vector<Row>& stored, const std::vector<Job>& jobs,
+                                const std::vector<SceneData>& scenes) {
+  auto key = [](const std::string& scene, uint64_t seed, std::vector<std::pair<std::string, std::string>> opts) {
+    std::erase_if(opts, [](const auto& kv) { return kv.first == "render.threads"; });
+    std::string k = scene + "|" + std::to_string(seed);
+    for (const auto& [a, b] : opts) k += "|" + a + "=" + b;
+    return k;
+  };
+  std::set<std::string> ids, current;
+  for (const Job& j : jobs) {
+    ids.insert(j.id);
+    current.insert(key(scenes[j.scene].as_written, j.seed, option_values(j.options)));
+  }
+  std::set<std::string> stale;
+  for (const Row& r : stored)
+    if (!ids.count(r.id) && current.count(key(r.scene, r.seed, r.options))) stale.insert(r.id);
+  return stale;
 }
 
 // The identity of a configuration: every option except the thread count (which does not change
@@ -200,6 +233,7 @@ int run_study(const StudyArgs& a) {
     scenes[i].path = s.scene_paths[i];
     scenes[i].text = read_text(s.scene_paths[i]);
     scenes[i].scene = load_scene(s.scene_paths[i]);
+    scenes[i].inputs_hash = inputs_hash(scenes[i].scene, s.scene_paths[i]);
     apply_scene_hints(scenes[i].defaults, scenes[i].scene.hints);
   }
   const std::vector<Configuration> configs = expand(s);
@@ -221,18 +255,22 @@ int run_study(const StudyArgs& a) {
           throw StudyError(fmt::format("{}: scene {}: {}", file, s.scenes[si], e.what()));
         }
         find_integrator(j.options.integrator);
-        j.id = hash_hex(option_identity(j.options, s.scenes[si]));
+        // The camera path's content too: it determines the images like the scene's files do.
+        const std::string& cam = j.options.render.camera_path;
+        const std::string inputs =
+            " inputs=" + scenes[si].inputs_hash + (cam.empty() ? "" : " camera=" + hash_hex(read_text(cam)));
+        j.id = hash_hex(option_identity(j.options, s.scenes[si]) + inputs);
         if (std::any_of(jobs.begin(), jobs.end(), [&](const Job& o) { return o.id == j.id; })) continue;  // duplicate values
         Options no_seed = j.options;
         no_seed.render.seed = 0;
-        j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]));
+        j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]) + inputs);
         if (s.needs_reference()) {
           const SceneData& sd = scenes[si];
           if (s.per_frame() && camera_moves(sd.scene, j.options)) {
             for (int f = 0; f < s.frames; ++f)
-              j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text, sd.defaults, j.options, f));
+              j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, f));
           } else {
-            j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text, sd.defaults, j.options, s.frames - 1));
+            j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, s.frames - 1));
           }
         }
         if (j.first_seed) report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
@@ -246,6 +284,10 @@ int run_study(const StudyArgs& a) {
   std::vector<const Job*> pending;
   for (const auto& j : jobs)
     if (!store.has(j.id)) pending.push_back(&j);
+  const std::set<std::string> stale = stale_ids(store.rows(), jobs, scenes);
+  if (!stale.empty() && !a.quiet)
+    std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
+                 "renderer changed since): recomputing them\n", stale.size());
 
   // References first (sequential, each with every thread), then the jobs.
   std::vector<const ReferenceJob*> ref_todo;
@@ -318,6 +360,7 @@ int run_study(const StudyArgs& a) {
     seeds_of_config[j.config_id].push_back(j.id);
   }
   std::vector<Row> rows = store.rows();
+  std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0; });  // superseded by the recomputed rows
   if (s.has_metric("noise")) {
     std::map<std::string, double> noise;
     for (const auto& [cfg, ids] : seeds_of_config) {
@@ -353,6 +396,7 @@ int run_study(const StudyArgs& a) {
   info.references_reused = refs.reused();
   info.jobs_run = pending.size();
   info.jobs_total = jobs.size();
+  info.stale_rows = stale.size();
   info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   write_report(out.string(), s, current, report_configs, plots, info);
   if (!a.quiet)

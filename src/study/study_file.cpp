@@ -255,6 +255,9 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
       ps.name = p.value("name", ps.y + "-vs-" + ps.x);
       for (char& c : ps.name)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '-';
+      // A name starting with '-' reads as an option to gnuplot and the shell (the plot was silently lost).
+      if (ps.name.empty() || ps.name[0] == '-')
+        fail(path, fmt::format("plot name '{}' must start with a letter, digit or '_'", p.value("name", ps.name)));
       ps.title = p.value("title", ps.y + " vs " + ps.x);
       if (std::find(cols.begin(), cols.end(), ps.y) == cols.end())
         fail(path, fmt::format("plot '{}': y '{}' is not a metric column of this study", ps.name, ps.y));
