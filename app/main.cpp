@@ -76,11 +76,7 @@ std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const 
   if (!a.png.empty()) outs.push_back({a.png, "--png", {".png"}});
   if (!a.average.empty()) outs.push_back({a.average, "--average", {".exr"}});
   if (!a.timings.empty()) outs.push_back({a.timings, "--timings", {".csv"}});
-  if (!a.frame_dir.empty()) {
-    outs.push_back({a.frame_dir, "--frame-dir", {}, true});
-    for (int f = 0; f < std::min(o.render.frames, 10000); ++f)
-      outs.push_back({fmt::format("{}/frame_{:04d}.exr", a.frame_dir, f), "--frame-dir", {".exr"}});
-  }
+  if (!a.frame_dir.empty()) outs.push_back({a.frame_dir, "--frame-dir", {}, true});
   const std::string main_out = !a.out.empty() ? a.out : (!a.png.empty() ? a.png : a.average);
   std::string sidecar = main_out.empty() ? "" : replace_extension(main_out, ".json");
   if (!sidecar.empty()) outs.push_back({sidecar, "the JSON sidecar of " + main_out, {".json"}, false, true});
@@ -88,6 +84,22 @@ std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const 
   if (inputs.empty()) inputs.push_back(a.scene);
   if (!a.config.empty()) inputs.push_back(a.config);
   if (!o.render.camera_path.empty()) inputs.push_back(o.render.camera_path);
+  // The frame files DIR/frame_NNNN.exr must not be an input or another output either (checked by
+  // name: enumerating up to 100000 frame paths against every other path would be quadratic).
+  if (!a.frame_dir.empty()) {
+    std::vector<std::string> others = inputs;
+    for (const OutputFile& f : outs)
+      if (!f.directory) others.push_back(f.path);
+    for (const std::string& p : others) {
+      const fs::path pp(p);
+      const std::string name = pp.filename().string();
+      int f = -1;
+      if (std::sscanf(name.c_str(), "frame_%d.exr", &f) == 1 && f >= 0 && f < o.render.frames &&
+          name == fmt::format("frame_{:04d}.exr", f) &&
+          same_file(pp.parent_path().empty() ? "." : pp.parent_path().string(), a.frame_dir))
+        throw std::runtime_error(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
+    }
+  }
   check_outputs(outs, inputs);
   return sidecar;
 }

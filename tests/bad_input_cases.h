@@ -248,6 +248,9 @@ inline std::vector<BadCase> bad_input_cases() {
   out("--timings with an EXR extension", "-o {d}/o.exr --timings {d}/t.exr", {"--timings", ".csv"});
   out("-o onto a directory", "-o {d}/dir.exr", {"-o", "directory"}, {{"dir.exr/", ""}});
   out("--frame-dir onto a file", "--frame-dir {d}/f.txt", {"--frame-dir", "not a directory"}, {{"f.txt", "x"}});
+  out("--frame-dir over -o", "--frame-dir {d}/fr -o {d}/fr/frame_0000.exr", {"--frame-dir", "frame_0000.exr"});
+  out("--frame-dir over the config", "--config {d}/frame_0000.exr --frame-dir {d} -o {d}/o.exr",
+      {"--frame-dir", "frame_0000.exr"}, {{"frame_0000.exr", "{}"}});
   out("-o under a file used as a folder", "-o {d}/f.txt/o.exr", {"-o", "f.txt"}, {{"f.txt", "x"}});
 
   // Usage errors: exit status 2, one line, readable ranges.
