@@ -26,6 +26,12 @@ struct PtFixture {
     PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
     build_gbuffer(*ctx, cam, 0, 0, g);
   }
+  // The primary surface of a uniformly chosen pixel (may be invalid: background).
+  const GSurface& random_surface(Pcg32& rng) const {
+    const uint32_t size = uint32_t(g.width);
+    const int x = int(rng.next_below(size));
+    return g.at(x, int(rng.next_below(size)));
+  }
 };
 
 }  // namespace rl::test

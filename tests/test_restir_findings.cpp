@@ -34,10 +34,9 @@ struct ShiftCounts {
 ShiftCounts check_shifts(PtFixture& fx, const PathSettings& ps, int attempts) {
   ShiftCounts c;
   Pcg32 rng(4242);
-  const int size = fx.g.width;
   for (int it = 0; it < attempts; ++it) {
-    const GSurface& a = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
-    const GSurface& b = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    const GSurface& a = fx.random_surface(rng);
+    const GSurface& b = fx.random_surface(rng);
     if (!a.valid || !b.valid) continue;
     PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
     if (!r.has_sample()) continue;

@@ -29,10 +29,9 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
   ps.max_depth = max_depth;
   Pcg32 rng(42);
   int checked = 0, identity = 0;
-  const int size = fx.g.width;
   for (int it = 0; it < 3000 && checked < 200; ++it) {
-    const GSurface& a = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
-    const GSurface& b = fx.g.at(int(rng.next_below(uint32_t(size))), int(rng.next_below(uint32_t(size))));
+    const GSurface& a = fx.random_surface(rng);
+    const GSurface& b = fx.random_surface(rng);
     if (!a.valid || !b.valid) continue;
     PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
     if (!r.has_sample()) continue;
