@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/rng.h"
 #include "scene/lights.h"
 
 using namespace rl;

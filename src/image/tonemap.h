@@ -3,7 +3,7 @@
 #pragma once
 #include "core/math.h"
 #include "image/image.h"
-#include "integrators/options.h"
+#include "image/tonemap_options.h"
 
 namespace rl {
 

@@ -8,15 +8,15 @@
 #include <vector>
 
 #include "core/option_io.h"
+#include "image/tonemap_options.h"
 #include "restir/mis.h"
+#include "scene/light_selection.h"
 
 namespace rl {
 
 enum class SamplePattern { center, stratified, halton, msaa, random };
 enum class PixelFilter { box, triangle, gaussian };
-enum class Tonemap { linear, reinhard, modified_reinhard, aces };
 enum class MisHeuristic { balance, power };
-enum class LightSelection { power, uniform };
 // ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
 // that times the BSDF and cosine at the visible point.
 enum class GiTarget { radiance, contribution };
@@ -35,10 +35,6 @@ template <> struct EnumNames<SamplePattern> {
 template <> struct EnumNames<PixelFilter> {
   static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
       {{PixelFilter::box, "box"}, {PixelFilter::triangle, "triangle"}, {PixelFilter::gaussian, "gaussian"}}};
-};
-template <> struct EnumNames<Tonemap> {
-  static constexpr std::array<std::pair<Tonemap, const char*>, 4> values{{{Tonemap::linear, "linear"},
-      {Tonemap::reinhard, "reinhard"}, {Tonemap::modified_reinhard, "modified-reinhard"}, {Tonemap::aces, "aces"}}};
 };
 template <> struct EnumNames<MisHeuristic> {
   static constexpr std::array<std::pair<MisHeuristic, const char*>, 2> values{
@@ -61,10 +57,6 @@ template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
       {{ShiftMapping::reconnection, "reconnection"}, {ShiftMapping::random_replay, "random-replay"},
        {ShiftMapping::hybrid, "hybrid"}}};
-};
-template <> struct EnumNames<LightSelection> {
-  static constexpr std::array<std::pair<LightSelection, const char*>, 2> values{
-      {{LightSelection::power, "power"}, {LightSelection::uniform, "uniform"}}};
 };
 
 template <> struct EnumNames<restir::ReuseMis> {
@@ -144,12 +136,6 @@ struct PtOptions {
   ReuseOptions reuse;
 };
 
-struct OutputOptions {
-  Tonemap tonemap = Tonemap::aces;
-  float exposure = 0;
-  float white_point = 4;
-  bool srgb = true;
-};
 
 struct Options {
   std::string integrator = "pt";

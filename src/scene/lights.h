@@ -25,7 +25,7 @@
 
 #include "core/math.h"
 #include "core/sampling.h"
-#include "integrators/options.h"
+#include "scene/light_selection.h"
 #include "scene/scene.h"
 
 namespace rl {
