@@ -103,10 +103,11 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   // is 0, which takes a shadow ray per light candidate. Counting it there (as before) left W short
   // on points occluded here and darkened the neighbours that reuse them where they are visible.
   const bool bsdf_visibility = !visibility && bsdf_candidates > 0;
-  auto weight = [&](const LightPoint& y, float target, bool from_light) {
+  // shadow: the light candidate's shadow ray (null for BSDF candidates, visible by construction).
+  auto weight = [&](const LightPoint& y, float target, const Ray* shadow) {
     if (!(target > 0)) return 0.0f;
     StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0);
-    if (from_light && bsdf_visibility && p.bsdf > 0 && !(di_target(ctx, s, y, true) > 0)) p.bsdf = 0;
+    if (shadow && bsdf_visibility && p.bsdf > 0 && ctx.accel.occluded(*shadow)) p.bsdf = 0;
     float den = ml * p.light + mb * p.bsdf;
     return den > 0 ? target / den : 0.0f;
   };
@@ -117,8 +118,9 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     float u_stream = rng.next_float();
     if (!ctx.lights.sample_point(u_select, u, ep)) continue;
     LightPoint y{ep.position, ep.normal, ep.emitter};
-    float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t, true), u_stream);
+    Ray shadow;
+    float t = luminance(di_unshadowed(ctx.lights, s, y, eps, &shadow));
+    restir::stream(r, y, t, weight(y, t, &shadow), u_stream);
   }
   const Vec3 wo_l = s.frame.to_local(s.wo);
   for (int i = 0; i < bsdf_candidates; ++i) {
@@ -141,7 +143,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     }
     if (y.emitter == kNoEmitter) continue;
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t, false), u_stream);
+    restir::stream(r, y, t, weight(y, t, nullptr), u_stream);
   }
   restir::finalize(r);
   if (visibility && r.has_sample() && !(di_target(ctx, s, r.sample, true) > 0)) {
