@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/build_info.h"
 #include "core/output_guard.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
@@ -137,9 +138,9 @@ int run_render(const RenderArgs& a) {
 
   const std::string config_json = options_to_json(o, -1);
   std::vector<std::pair<std::string, std::string>> meta = {
-      {"restir.version", RESTIR_VERSION}, {"restir.scene", a.scene}, {"restir.config", config_json}};
+      {"restir.version", rl::build_id()}, {"restir.scene", a.scene}, {"restir.config", config_json}};
   if (!a.quiet) {
-    std::fprintf(stderr, "restir %s: %s, integrator %s, %dx%d, %d spp, %d frame(s)\n", RESTIR_VERSION, a.scene.c_str(),
+    std::fprintf(stderr, "restir %s: %s, integrator %s, %dx%d, %d spp, %d frame(s)\n", rl::build_id(), a.scene.c_str(),
                  o.integrator.c_str(), o.film.width, o.film.height, o.render.spp, o.render.frames);
   }
   RenderHooks hooks;
@@ -166,7 +167,7 @@ int run_render(const RenderArgs& a) {
   if (!sidecar.empty()) {
     nlohmann::ordered_json side;
     side[kSidecarMarker] = 1;
-    side["version"] = RESTIR_VERSION;
+    side["version"] = rl::build_id();
     side["scene"] = a.scene;
     side["config"] = nlohmann::ordered_json::parse(config_json);
     side["frame_ms"] = r.frame_ms;
@@ -270,7 +271,7 @@ int run_compare(const std::string& a, const std::string& b, bool json) {
 int main(int argc, char** argv) {
   CLI::App app{"restir-lab: a CPU research renderer and parameter-study lab for ReSTIR"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string(RESTIR_VERSION));
+  app.set_version_flag("--version", std::string(rl::build_id()));
 
   RenderArgs ra;
   auto* render = app.add_subcommand("render", "render a scene to EXR/PNG");

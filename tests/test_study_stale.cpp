@@ -5,10 +5,12 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "core/build_info.h"
 #include "study/runner.h"
 #include "test_helpers.h"
 
@@ -30,6 +32,33 @@ std::string emitter(float l) {
 }  // namespace
 
 TEST_SUITE("study_stale") {
+  // The binary's version in a row's identity is the build id, a hash of every source file, made at
+  // each build: rows and references of an older binary are recomputed (issue #8).
+  TEST_CASE("the build id is the hash of the sources the binary was built from, and changes with them") {
+    auto id_of = [](const fs::path& src, const fs::path& out) {
+      const std::string cmd = std::string(RESTIR_CMAKE) + " -DSRC=" + src.string() + " -DOUT=" + out.string() +
+                              " -DVERSION=" RESTIR_PROJECT_VERSION " -P " RESTIR_SOURCE_DIR "/cmake/build_id.cmake";
+      REQUIRE(std::system(cmd.c_str()) == 0);
+      return slurp(out);
+    };
+    fs::path d = fs::temp_directory_path() / ("restir-buildid-" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    // The id this binary carries is the one the script computes from today's source tree.
+    const std::string here = id_of(RESTIR_SOURCE_DIR, d / "here.h");
+    CHECK(here.find(std::string("\"") + build_id() + "\"") != std::string::npos);
+    CHECK(std::string(build_id()).starts_with(RESTIR_PROJECT_VERSION "+src."));
+    // A toy tree: same sources, same id and the header is not rewritten; one edited line, new id.
+    fs::create_directories(d / "src/core");
+    std::ofstream(d / "src/core/a.cpp") << "int a() { return 1; }\n";
+    const std::string first = id_of(d, d / "id.h");
+    const auto stamp = fs::last_write_time(d / "id.h");
+    CHECK(id_of(d, d / "id.h") == first);
+    CHECK(fs::last_write_time(d / "id.h") == stamp);
+    std::ofstream(d / "src/core/a.cpp") << "int a() { return 2; }\n";
+    CHECK(id_of(d, d / "id.h") != first);
+    fs::remove_all(d);
+  }
+
   TEST_CASE("editing a file the scene includes makes its rows stale: recomputed, and the report says so") {
     fs::path d = fs::temp_directory_path() / ("restir-stale-" + std::to_string(::getpid()));
     fs::remove_all(d);

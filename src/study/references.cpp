@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "core/build_info.h"
 #include "image/image_io.h"
 #include "integrators/render.h"
 #include "scene/camera.h"
@@ -74,7 +75,7 @@ const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
   moved.camera.keys = {job.camera};
   RenderResult res = render(moved, job.options, {});
   write_exr(p, res.last,
-            {{"restir.version", RESTIR_VERSION}, {"restir.config", options_to_json(job.options, -1)}, {"restir.reference", "1"}});
+            {{"restir.version", build_id()}, {"restir.config", options_to_json(job.options, -1)}, {"restir.reference", "1"}});
   ++rendered_;
   return images_[job.key] = std::move(res.last);
 }

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "core/build_info.h"
 #include "image/image_io.h"
 #include "study/images.h"
 
@@ -77,7 +78,7 @@ std::string build_description() {
 #else
   std::string compiler = "unknown compiler";
 #endif
-  return fmt::format("restir {}; {}; {}; built {} {}; FLIP metric {}", RESTIR_VERSION, compiler, type, __DATE__, __TIME__,
+  return fmt::format("restir {}; {}; {}; built {} {}; FLIP metric {}", build_id(), compiler, type, __DATE__, __TIME__,
                      flip_available() ? "built in" : "not built (relative error maps instead)");
 }
 

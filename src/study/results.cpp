@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/build_info.h"
 #include "image/image_io.h"
 
 namespace rl::study {
@@ -117,7 +118,7 @@ size_t ResultStore::size() const {
 void ResultStore::write_locked() const {
   ordered_json j;
   j["study"] = study_;
-  j["version"] = RESTIR_VERSION;
+  j["version"] = build_id();
   j["metrics"] = columns_;
   ordered_json rows = ordered_json::array();
   for (const auto& r : rows_) {

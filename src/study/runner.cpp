@@ -16,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include "core/build_info.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
 #include "integrators/integrator.h"
@@ -68,7 +69,7 @@ std::string read_text(const std::string& p) {
 // every file it reads (includes, meshes, textures, env maps), and the renderer's version. Part of
 // each row's id, so editing a scene makes its old rows stale (recomputed), never silently reused.
 std::string inputs_hash(const Scene& scene, const std::string& path) {
-  std::string text = std::string("version=") + RESTIR_VERSION;
+  std::string text = std::string("version=") + build_id();
   std::vector<std::string> files = scene.input_files;
   if (files.empty()) files.push_back(path);
   for (const std::string& f : files) text += "\nfile " + f + " " + hash_hex(read_text(f));
