@@ -111,6 +111,21 @@ void write_outputs(const std::string& exr, const std::string& png, const Image& 
   if (!png.empty()) write_png(png, tonemap(img, o.output));
 }
 
+// --timings: one row per frame, its wall time and each stage's (stage_times.h); a stage a frame did
+// not run (e.g. temporal reuse on frame 0) is 0.
+std::string timings_csv(const RenderResult& r) {
+  const std::vector<std::string> names = stage_names(r.frame_stages);
+  std::string csv = "frame,ms";
+  for (const auto& n : names) csv += "," + n + "_ms";
+  csv += "\n";
+  for (size_t i = 0; i < r.frame_ms.size(); ++i) {
+    csv += fmt::format("{},{:.3f}", i, r.frame_ms[i]);
+    for (const auto& n : names) csv += fmt::format(",{:.3f}", i < r.frame_stages.size() ? r.frame_stages[i].of(n) : 0.0);
+    csv += "\n";
+  }
+  return csv;
+}
+
 int run_render(const RenderArgs& a) {
   if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
     throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
@@ -157,11 +172,7 @@ int run_render(const RenderArgs& a) {
 
   write_outputs(a.out, a.png, r.last, o, meta);
   if (!a.average.empty()) write_exr(a.average, r.average, meta);
-  if (!a.timings.empty()) {
-    std::string csv = "frame,ms\n";
-    for (size_t i = 0; i < r.frame_ms.size(); ++i) csv += fmt::format("{},{:.3f}\n", i, r.frame_ms[i]);
-    write_text_file_atomic(a.timings, csv);
-  }
+  if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r));
   // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
   // key lets a later run tell its own sidecar from a user's JSON file of the same name.
   if (!sidecar.empty()) {
@@ -171,6 +182,13 @@ int run_render(const RenderArgs& a) {
     side["scene"] = a.scene;
     side["config"] = nlohmann::ordered_json::parse(config_json);
     side["frame_ms"] = r.frame_ms;
+    nlohmann::ordered_json stages = nlohmann::ordered_json::array();
+    for (const StageTimes& st : r.frame_stages) {
+      nlohmann::ordered_json one = nlohmann::ordered_json::object();
+      for (const auto& [name, ms] : st.ms) one[name] = ms;
+      stages.push_back(std::move(one));
+    }
+    side["stage_ms"] = std::move(stages);
     write_text_file_atomic(sidecar, side.dump(2) + "\n");
   }
   if (!a.quiet) {

@@ -70,5 +70,6 @@ int main(int argc, char** argv) {
   fmt::print("{:<28} {:>10.1f} {:>12.5f}\n", fmt::format("ReSTIR DI (frame {})", frames), di_ms, di_err);
   fmt::print("{:<28} {:>10.1f} {:>12.5f}\n", fmt::format("path tracer NEE, {} spp", spp), r_pt.frame_ms[0], pt_err);
   fmt::print("equal-time relMSE ratio (PT / ReSTIR DI): {:.1f}x\n", pt_err / di_err * (r_pt.frame_ms[0] / di_ms));
+  fmt::print("ReSTIR DI stages (median): {}\n", bench::stage_summary(r_di.frame_stages, r_di.frame_stages.size() > 1 ? 1 : 0));
   return 0;
 }

@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
       // Residual time mismatch corrected to first order (error ∝ 1 / time).
       const double ratio = pt_err / err * (rp.frame_ms[0] / ms);
       fmt::print("{:<14} {:>10.1f} {:>12.5f} {:>10} spp {:>12.5f} {:>9.1f}x\n", shift, ms, err, pt.render.spp, pt_err, ratio);
+      fmt::print("  stages: {}\n", bench::stage_summary(r.frame_stages, 1));
     }
   }
   return 0;

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <unistd.h>
 
 #include "image/image_io.h"
@@ -53,6 +55,36 @@ TEST_SUITE("cli") {
     int files = 0;
     for (const auto& e : fs::directory_iterator(d)) files += e.is_regular_file() ? 1 : 0;
     CHECK(files == 4);
+    fs::remove_all(d);
+  }
+
+  // Issue 9: where the frame's time goes. Every integrator reports its stages; --timings has a
+  // column per stage (0 where a frame did not run it: no temporal reuse on frame 0).
+  TEST_CASE("--timings writes each frame's stage times, and they add up to at most the frame time") {
+    fs::path d = temp_dir("timings");
+    write(d / "s.pbrt", kGoodScene);
+    auto r = run_restir("render " + (d / "s.pbrt").string() + " -q --spp 1 --frames 3 --integrator restir-di -o " +
+                        (d / "o.exr").string() + " --timings " + (d / "t.csv").string());
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    std::ifstream in(d / "t.csv");
+    std::string header;
+    std::getline(in, header);
+    CHECK(header == "frame,ms,primary_ms,candidates_ms,temporal_ms,spatial_ms,shading_ms");
+    for (int f = 0; f < 3; ++f) {
+      std::string line;
+      REQUIRE(std::getline(in, line));
+      std::vector<double> v;
+      std::stringstream ss(line);
+      for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+      REQUIRE(v.size() == 7);
+      CHECK(v[0] == f);
+      double stages = 0;
+      for (size_t i = 2; i < v.size(); ++i) stages += v[i];
+      CHECK(stages <= v[1] * 1.001 + 0.01);
+      CHECK(stages > 0);
+      CHECK((v[4] == 0) == (f == 0));  // temporal reuse needs a history
+    }
     fs::remove_all(d);
   }
 

@@ -10,6 +10,7 @@
 #include "image/image.h"
 #include "integrators/options.h"
 #include "integrators/planted_bias.h"
+#include "integrators/stage_times.h"
 #include "scene/accel.h"
 #include "scene/camera.h"
 #include "scene/lights.h"
@@ -35,6 +36,7 @@ struct FrameInfo {
   const PerspectiveCamera* camera = nullptr;
   const PerspectiveCamera* previous_camera = nullptr;  // null on the first frame
   std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
+  StageTimes* stages = nullptr;                        // where the integrator records its stages' wall time; may be null
 };
 
 class Integrator {

@@ -132,6 +132,7 @@ class PathTracer final : public Integrator {
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     const Options& o = ctx_.options;
+    StageTimer timer(frame.stages, "paths");  // one stage: camera rays through every bounce, per pixel
     parallel_for_pixels(out.width, out.height, [&](int x, int y) {
       const uint32_t pixel = uint32_t(y) * uint32_t(out.width) + uint32_t(x);
       Rgb sum(0);

@@ -91,11 +91,14 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
         draw_progress(f, o.render.frames, done, total, el);
       };
     Image img(o.film.width, o.film.height);
+    StageTimes stages;
+    info.stages = &stages;
     auto t0 = std::chrono::steady_clock::now();
     integrator->render_frame(info, img);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     check_finite(o.integrator, f, img);
     result.frame_ms.push_back(ms);
+    result.frame_stages.push_back(std::move(stages));
     // Running mean, numerically stable for long sequences.
     const float w = 1.0f / float(f + 1);
     for (size_t i = 0; i < img.size(); ++i) result.average.pixels[i] += (img.pixels[i] - result.average.pixels[i]) * w;

@@ -7,6 +7,7 @@
 #include "image/image.h"
 #include "integrators/options.h"
 #include "integrators/planted_bias.h"
+#include "integrators/stage_times.h"
 #include "scene/scene.h"
 
 namespace rl {
@@ -15,6 +16,7 @@ struct RenderResult {
   Image last;                    // the last frame of the sequence
   Image average;                 // mean of all frames (converges for static scenes)
   std::vector<double> frame_ms;  // wall time of each frame
+  std::vector<StageTimes> frame_stages;  // wall time of each frame's stages (stage_times.h)
 };
 
 struct RenderHooks {

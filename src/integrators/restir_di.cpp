@@ -54,17 +54,21 @@ class RestirDi final : public Integrator {
     };
 
     // 1. Initial candidates.
-    parallel_for_pixels(w, h, [&](int x, int y) {
-      const uint32_t p = uint32_t(y * w + x);
-      Pcg32 rng = make_rng(p, f, RngPass::light_candidates, seed, chain);
-      c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng);
-    }, frame.progress);
+    {
+      StageTimer timer(frame.stages, "candidates");
+      parallel_for_pixels(w, h, [&](int x, int y) {
+        const uint32_t p = uint32_t(y * w + x);
+        Pcg32 rng = make_rng(p, f, RngPass::light_candidates, seed, chain);
+        c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng);
+      }, frame.progress);
+    }
 
     // 2. Temporal reuse, 3. spatial reuse.
     c.reuse(rp, frame, make_bridge, seed, s);
 
     // 4. Shading: f(y) W, with visibility traced unless the target already included it.
     const float eps = ctx_.accel.ray_epsilon();
+    StageTimer timer(frame.stages, "shading");
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& sf = g.at(x, y);

@@ -150,15 +150,19 @@ class RestirGi final : public Integrator {
     c.specular.assign(c.reservoirs.size(), Rgb(0));
     auto make_bridge = [&](const GSurface* const* surfaces, int) { return GiBridge{&ctx_, o.gi.target, surfaces}; };
 
-    parallel_for_pixels(w, h, [&](int x, int y) {
-      const uint32_t p = uint32_t(y * w + x);
-      Pcg32 rng = make_rng(p, f, RngPass::path, seed, chain);
-      c.reservoirs[p] = initial(g.at(x, y), rng, c.specular[p]);
-      c.specular[p] += direct(g.at(x, y), rng);
-    }, frame.progress);
+    {
+      StageTimer timer(frame.stages, "candidates");
+      parallel_for_pixels(w, h, [&](int x, int y) {
+        const uint32_t p = uint32_t(y * w + x);
+        Pcg32 rng = make_rng(p, f, RngPass::path, seed, chain);
+        c.reservoirs[p] = initial(g.at(x, y), rng, c.specular[p]);
+        c.specular[p] += direct(g.at(x, y), rng);
+      }, frame.progress);
+    }
 
     c.reuse(rp, frame, make_bridge, seed, s);
 
+    StageTimer timer(frame.stages, "shading");
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& sf = g.at(x, y);

@@ -53,7 +53,12 @@ class RestirPt final : public Integrator {
     // rays), the paths only the indirect part (length >= 3).
     if (direct_ && ctx_.options.render.debug_view == DebugView::none) {
       Image direct(out.width, out.height);
-      direct_->render_frame(frame, direct);
+      FrameInfo di_frame = frame;  // its stages are ReSTIR DI's: recorded under "di.<stage>"
+      StageTimes di_stages;
+      di_frame.stages = &di_stages;
+      direct_->render_frame(di_frame, direct);
+      if (frame.stages)
+        for (const auto& [name, ms] : di_stages.ms) frame.stages->add("di." + name, ms);
       for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += direct.pixels[i];
     }
   }
@@ -72,16 +77,20 @@ class RestirPt final : public Integrator {
     auto make_bridge = [&](const GSurface* const* surfaces, int) { return PtBridge{&ctx_, &settings_, surfaces}; };
 
     // 1. Initial paths.
-    parallel_for_pixels(w, h, [&](int x, int y) {
-      const uint32_t p = uint32_t(y * w + x);
-      const uint64_t path_seed = hash_combine(hash_combine(hash_combine(seed, p), f), chain);
-      c.reservoirs[p] = initial_path_reservoir(ctx_, settings_, g.at(x, y), path_seed, o.pt.candidates);
-    }, frame.progress);
+    {
+      StageTimer timer(frame.stages, "candidates");
+      parallel_for_pixels(w, h, [&](int x, int y) {
+        const uint32_t p = uint32_t(y * w + x);
+        const uint64_t path_seed = hash_combine(hash_combine(hash_combine(seed, p), f), chain);
+        c.reservoirs[p] = initial_path_reservoir(ctx_, settings_, g.at(x, y), path_seed, o.pt.candidates);
+      }, frame.progress);
+    }
 
     // 2. Temporal reuse, 3. spatial reuse.
     c.reuse(rp, frame, make_bridge, seed, s);
 
     // 4. Shading: emission at the primary hit + f(Y) W.
+    StageTimer timer(frame.stages, "shading");
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& sf = g.at(x, y);

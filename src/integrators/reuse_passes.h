@@ -153,6 +153,7 @@ struct ReservoirChain {
 
   // Primary hits of chain `s` of this frame, empty reservoirs.
   void begin_frame(const RenderContext& ctx, const FrameInfo& frame, int s) {
+    StageTimer timer(frame.stages, "primary");
     build_gbuffer(ctx, *frame.camera, frame.index, s, gbuffer);
     reservoirs.assign(gbuffer.pixels.size(), restir::Reservoir<Sample>{});
     debug.reset(reservoirs.size());
@@ -162,8 +163,11 @@ struct ReservoirChain {
   void reuse(const ReuseOptions& rp, const FrameInfo& frame, const MakeBridge& make_bridge, uint64_t seed, int s) {
     const uint32_t f = uint32_t(frame.index), chain = uint32_t(s);
     const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
-    if (rp.temporal && has_history && previous_gbuffer.width == gbuffer.width && previous_gbuffer.height == gbuffer.height)
+    if (rp.temporal && has_history && previous_gbuffer.width == gbuffer.width && previous_gbuffer.height == gbuffer.height) {
+      StageTimer timer(frame.stages, "temporal");
       temporal_pass(rp, gbuffer, previous_gbuffer, prev_cam, reservoirs, previous, make_bridge, f, seed, chain, debug);
+    }
+    StageTimer timer(frame.stages, "spatial");
     spatial_passes(rp, gbuffer, reservoirs, make_bridge, f, seed, chain, debug);
   }
   // Keeps this frame's reservoirs and surfaces for the next frame's temporal reuse.
