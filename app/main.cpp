@@ -24,6 +24,7 @@
 #include "scene/loader.h"
 #include "scene/mitsuba_export.h"
 #include "study/runner.h"
+#include "study/slurm.h"
 #include "study/study_file.h"
 
 using namespace rl;
@@ -341,7 +342,19 @@ int main(int argc, char** argv) {
   study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(integer_in(1, INT_MAX));
   study_cmd->add_flag("--list", study_list, "list the built-in studies");
   study_cmd->add_flag("-q,--quiet", sa.quiet, "no progress or summary on stderr");
-  study_cmd->footer("Resumable: rows already in OUT/results.json are not recomputed. Format: studies/README.md.");
+  std::string shard_text;
+  bool slurm = false;
+  study::SlurmArgs sl;
+  study_cmd->add_option("--shard", shard_text, "I/N: run only shard I of N (0-based) of the jobs, rows into OUT/shards/I-of-N");
+  study_cmd->add_flag("--merge", sa.merge, "run nothing: gather OUT and every OUT/shards/* into results, plots and report; exit 1 if jobs are missing");
+  study_cmd->add_flag("--slurm", slurm, "submit the study as a Slurm job array of --shards tasks plus a dependent merge job");
+  study_cmd->add_option("--shards", sl.shards, "--slurm: array tasks (default 4)")->check(integer_in(1, 100000));
+  study_cmd->add_option("--partition", sl.partition, "--slurm: sbatch --partition");
+  study_cmd->add_option("--time", sl.time, "--slurm: sbatch --time limit per task (e.g. 2:00:00)");
+  study_cmd->add_option("--cpus", sl.cpus, "--slurm: sbatch --cpus-per-task")->check(integer_in(1, 4096));
+  study_cmd->add_flag("--dry-run", sl.dry_run, "--slurm: print the job scripts and sbatch commands; submit nothing");
+  study_cmd->footer("Resumable: rows already in OUT/results.json (or OUT/shards/*) are not recomputed. Format: studies/README.md.\n"
+                    "Cluster: --slurm submits, --shard/--merge are what its tasks run; see README \"Running on a cluster\".");
 
   try {
     app.parse(argc, argv);
@@ -375,6 +388,12 @@ int main(int argc, char** argv) {
       }
       if (sa.study.empty()) throw UsageError("study: give a study name or file (or --list)");
       if (sa.out.empty()) throw UsageError("study: --out DIR is required");
+      if (!shard_text.empty()) sa.shard = study::parse_shard(shard_text);
+      const bool slurm_only = sl.dry_run || study_cmd->count("--shards") || study_cmd->count("--partition") ||
+                              study_cmd->count("--time") || study_cmd->count("--cpus");
+      if (slurm && (sa.merge || sa.shard.active())) throw UsageError("study: --slurm submits shards and merge itself; drop --shard/--merge");
+      if (!slurm && slurm_only) throw UsageError("study: --shards, --partition, --time, --cpus and --dry-run belong to --slurm");
+      if (slurm) return study::submit_study_slurm(sa, sl);
       return study::run_study(sa);
     }
     if (*options) {

@@ -15,6 +15,7 @@ for a in "$@"; do
   esac
 done
 install_missing_packages
+install_optional_packages slurm-wlm munge  # tests/slurm_study.sh: a private one-node Slurm cluster
 build "$dir" "${cmake_args[@]}"
 cd "$dir"
 ctest -j "$(nproc)" --output-on-failure --timeout 900 "${ctest_args[@]}"

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/build_info.h"
+#include "core/file_lock.h"
 #include "image/image_io.h"
 #include "integrators/render.h"
 #include "scene/camera.h"
@@ -67,6 +68,9 @@ const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
   if (it != images_.end()) return it->second;
   fs::create_directories(dir_);
   const std::string p = path(job.key);
+  // Shards of a study (other processes, other machines) share references/: whoever needs a
+  // reference first renders it while holding its lock; the others wait, then read the file.
+  FileLock lock_file(p + ".lock");
   if (fs::exists(p)) {
     ++reused_;
     return images_[job.key] = read_image(p);

@@ -224,8 +224,18 @@ int run_study(const StudyArgs& a) {
   const Study s = load_study(file, a.quick);
   if (a.out.empty()) throw StudyError("--out DIR is required");
   const fs::path out(a.out);
-  for (const char* d : {"", "references", "renders", "images", "plots"}) fs::create_directories(out / d);
-  remove_stale_temp_files(out);
+  if (!a.plan)  // a plan (--slurm, its --dry-run) writes nothing
+    for (const char* d : {"", "references", "renders", "images", "plots"}) fs::create_directories(out / d);
+  if (a.shard.active() && a.merge) throw StudyError("--shard and --merge exclude each other: merge once all shards ran");
+  // Temporary files of an interrupted run. Shards share DIR with other running shards: each only
+  // clears its own store's folder, never another process's files in flight.
+  if (a.plan) {
+  } else if (a.shard.active()) {
+    fs::create_directories(shard_dir(a.out, a.shard));
+    remove_stale_temp_files(shard_dir(a.out, a.shard));
+  } else if (!a.merge) {
+    remove_stale_temp_files(out);
+  }
 
   // Scenes, configurations, jobs. Everything is validated before the first render.
   std::vector<SceneData> scenes(s.scenes.size());
@@ -280,12 +290,33 @@ int run_study(const StudyArgs& a) {
     }
 
   std::vector<std::string> columns = metric_columns(s);
-  ResultStore store(out.string(), s.name, columns);
+  ResultStore store(a.shard.active() ? shard_dir(a.out, a.shard) : out.string(), s.name, columns);
   store.load();
-  std::vector<const Job*> pending;
-  for (const auto& j : jobs)
-    if (!store.has(j.id)) pending.push_back(&j);
-  const std::set<std::string> stale = stale_ids(store.rows(), jobs, scenes);
+  // Done: a row in the main store or in any shard's (a job may have run in an earlier array).
+  std::vector<Row> known = load_shard_rows(a.out, columns, s.name);
+  if (a.shard.active()) {
+    ResultStore main_store(out.string(), s.name, columns);
+    main_store.load();
+    known = union_rows(main_store.rows(), known);
+  } else {
+    known = union_rows(store.rows(), known);
+  }
+  std::set<std::string> done;
+  for (const Row& r : known) done.insert(r.id);
+  if (a.plan) {
+    a.plan->jobs = jobs.size();
+    a.plan->missing.clear();
+    for (size_t p = 0; p < jobs.size(); ++p)
+      if (!done.count(jobs[p].id)) a.plan->missing.push_back(p);
+    return 0;
+  }
+  std::vector<const Job*> pending, missing;
+  for (size_t p = 0; p < jobs.size(); ++p) {
+    if (done.count(jobs[p].id)) continue;
+    if (a.merge) missing.push_back(&jobs[p]);
+    else if (a.shard.owns(p)) pending.push_back(&jobs[p]);
+  }
+  const std::set<std::string> stale = stale_ids(known, jobs, scenes);
   if (!stale.empty() && !a.quiet)
     std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
                  "renderer changed since): recomputing them\n", stale.size());
@@ -298,9 +329,10 @@ int run_study(const StudyArgs& a) {
       if (ref_keys.insert(r.key).second && !refs.on_disk(r.key)) ref_todo.push_back(&r);
 
   if (!a.quiet)
-    std::fprintf(stderr, "study %s%s: %zu scene(s) x %zu configuration(s) x %zu seed(s) = %zu job(s), %zu to run, %zu reference(s) to render, --jobs %d\n",
-                 s.name.c_str(), a.quick ? " (quick)" : "", scenes.size(), configs.size(), s.seeds.size(), jobs.size(),
-                 pending.size(), ref_todo.size(), a.jobs);
+    std::fprintf(stderr, "study %s%s%s: %zu scene(s) x %zu configuration(s) x %zu seed(s) = %zu job(s), %zu to run, %zu reference(s) to render, --jobs %d\n",
+                 s.name.c_str(), a.quick ? " (quick)" : "",
+                 a.shard.active() ? fmt::format(" shard {}/{}", a.shard.index, a.shard.count).c_str() : "", scenes.size(),
+                 configs.size(), s.seeds.size(), jobs.size(), pending.size(), ref_todo.size(), a.jobs);
 
   g_interrupted = false;
   auto old_int = std::signal(SIGINT, on_signal);
@@ -352,6 +384,12 @@ int run_study(const StudyArgs& a) {
                  (out / "results.csv").c_str());
     return 130;
   }
+  if (a.shard.active()) {  // the report is the merge's
+    if (!a.quiet)
+      std::fprintf(stderr, "shard %d/%d: %zu job(s) run, rows in %s; gather all shards with --merge\n", a.shard.index,
+                   a.shard.count, pending.size(), (fs::path(shard_dir(a.out, a.shard)) / "results.csv").c_str());
+    return 0;
+  }
 
   // Final pass: noise across seeds, rows in job order, plots, report.
   std::map<std::string, size_t> order;
@@ -360,7 +398,7 @@ int run_study(const StudyArgs& a) {
     order[j.id] = j.index;
     seeds_of_config[j.config_id].push_back(j.id);
   }
-  std::vector<Row> rows = store.rows();
+  std::vector<Row> rows = union_rows(store.rows(), known);
   std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0; });  // superseded by the recomputed rows
   if (s.has_metric("noise")) {
     std::map<std::string, double> noise;
@@ -403,6 +441,14 @@ int run_study(const StudyArgs& a) {
   if (!a.quiet)
     std::fprintf(stderr, "done: %zu row(s), %d reference(s) rendered, %d reused; %s\n", rows.size(), refs.rendered(),
                  refs.reused(), (out / "report.html").c_str());
+  if (!missing.empty()) {
+    std::string list;
+    for (size_t i = 0; i < missing.size() && i < 5; ++i)
+      list += fmt::format("{}{} seed {} ({})", i ? ", " : "", s.scenes[missing[i]->scene], missing[i]->seed, missing[i]->id);
+    std::fprintf(stderr, "error: --merge: %zu of %zu job(s) missing from every shard: %s%s; resubmit (--slurm runs only the missing ones) or run the study here without --merge\n",
+                 missing.size(), jobs.size(), list.c_str(), missing.size() > 5 ? ", ..." : "");
+    return 1;
+  }
   return 0;
 }
 

@@ -10,8 +10,17 @@
 //   report.html
 #pragma once
 #include <string>
+#include <vector>
+
+#include "study/shards.h"
 
 namespace rl::study {
+
+// What a study still has to compute: filled instead of rendering when StudyArgs::plan is set.
+struct StudyPlan {
+  size_t jobs = 0;                   // jobs of the study (scenes x configurations x seeds, duplicates removed)
+  std::vector<size_t> missing;       // positions (shards.h) of the jobs no store holds yet
+};
 
 struct StudyArgs {
   std::string study;  // name of a built-in study or path to a JSON file
@@ -19,9 +28,13 @@ struct StudyArgs {
   bool quick = false;
   int jobs = 1;
   bool quiet = false;
+  ShardSpec shard;     // --shard I/N: run only shard I's jobs, rows into DIR/shards/I-of-N (shards.h)
+  bool merge = false;  // --merge: run nothing; gather the main store and every shard into the report
+  StudyPlan* plan = nullptr;  // set: validate everything, fill *plan and return 0 without rendering
 };
 
-// Returns the exit status (0, or 130 when interrupted by SIGINT/SIGTERM). Throws on errors.
+// Returns the exit status (0; 130 when interrupted by SIGINT/SIGTERM; 1 when --merge finds jobs
+// that no part holds, after writing the report of those it has). Throws on errors.
 int run_study(const StudyArgs& args);
 
 }  // namespace rl::study
