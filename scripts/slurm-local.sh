@@ -16,8 +16,12 @@ port="${PORT:-16817}"
 stop() {
   for p in slurmd slurmctld munged; do
     if [ -f "$dir/$p.pid" ]; then
-      kill "$(cat "$dir/$p.pid")" 2>/dev/null || true
-      for _ in $(seq 50); do kill -0 "$(cat "$dir/$p.pid")" 2>/dev/null || break; sleep 0.1; done
+      local pid
+      pid="$(cat "$dir/$p.pid" 2>/dev/null || true)"
+      if [ -n "$pid" ]; then
+        kill "$pid" 2>/dev/null || true
+        for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+      fi
       rm -f "$dir/$p.pid"
     fi
   done
