@@ -70,7 +70,10 @@ const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
   const std::string p = path(job.key);
   // Shards of a study (other processes, other machines) share references/: whoever needs a
   // reference first renders it while holding its lock; the others wait, then read the file.
-  FileLock lock_file(p + ".lock");
+  // The lock files live beside references/ (OUT/locks), so references/ holds only images.
+  const fs::path locks = fs::path(dir_).parent_path() / "locks";
+  fs::create_directories(locks);
+  FileLock lock_file((locks / (job.key + ".lock")).string());
   if (fs::exists(p)) {
     ++reused_;
     return images_[job.key] = read_image(p);

@@ -4,6 +4,9 @@
 // Output folder DIR:
 //   results.json, results.csv   one row per (configuration, seed) [x frame for over-time studies]
 //   references/<hash>.exr       converged path-traced references (shared by reruns)
+//   locks/<hash>.lock           fcntl locks: one process renders each reference (shards.h)
+//   shards/I-of-N/results.*     rows of shard I of N (--shard), gathered by --merge
+//   slurm/                      job scripts and logs of --slurm
 //   renders/<id>.exr            the last frame of every (configuration, seed) (for noise)
 //   images/<config>*.{exr,png}  first seed of each configuration: EXR, PNG, error map, crops
 //   plots/<name>.{png,svg,gp,dat}
