@@ -1,6 +1,10 @@
 #include <doctest/doctest.h>
 
+#include <set>
+
 #include "convergence.h"
+#include "integrators/di_sampling.h"
+#include "stat_utils.h"
 
 using namespace rl;
 using namespace rl::test;
@@ -25,6 +29,41 @@ Options reference_options(const Options& test, int spp) {
 }  // namespace
 
 TEST_SUITE("restir_di") {
+  TEST_CASE("light tiles: entries follow the selection pmf (chi-square); one tile per 16x16 block; deterministic") {
+    Scene scene = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt");
+    Lights lights(scene, LightSelection::power);
+    LightTiles tiles;
+    tiles.build(lights, 64, 1024, 3, 7, 0);
+    for (int x = 0; x < 64 * 16; x += 16)  // entries carry their emitter's selection pmf
+      for (const LightTileEntry& e : tiles.tile_of(x, 0, 64 * 16, 3, 7, 0)) {
+        REQUIRE(e.emitter < lights.emitter_count());
+        CHECK(e.pmf == doctest::Approx(lights.selection_pmf(e.emitter)));
+      }
+    // All 64 tiles (found through the blocks that pick them): 65536 entries, iid by the pmf.
+    LightTiles again;
+    again.build(lights, 64, 1024, 3, 7, 0);
+    std::vector<double> all(lights.emitter_count(), 0.0), expected(lights.emitter_count(), 0.0);
+    std::set<const LightTileEntry*> seen;
+    for (int b = 0; b < 4096 && seen.size() < 64; ++b) {
+      auto t = again.tile_of((b % 256) * 16, (b / 256) * 16, 256 * 16, 3, 7, 0);
+      if (!seen.insert(t.data()).second) continue;
+      for (const LightTileEntry& e : t) all[e.emitter] += 1;
+    }
+    REQUIRE(seen.size() == 64);
+    for (size_t i = 0; i < expected.size(); ++i) expected[i] = 64.0 * 1024.0 * lights.selection_pmf(uint32_t(i));
+    const stat::Chi2Result chi = stat::chi2_test(all, expected, 5.0);
+    INFO(stat::describe(chi));
+    CHECK(chi.message.empty());
+    CHECK(chi.p > 1e-3);
+    // The same block shares its tile; the same inputs give the same tiles (build is per-tile seeded).
+    CHECK(tiles.tile_of(0, 0, 320, 3, 7, 0).data() == tiles.tile_of(15, 15, 320, 3, 7, 0).data());
+    CHECK(tiles.tile_of(3, 4, 320, 3, 7, 0)[5].emitter == again.tile_of(3, 4, 320, 3, 7, 0)[5].emitter);
+    CHECK(tiles.tile_of(3, 4, 320, 3, 7, 0).size() == 1024);
+    LightTiles none;
+    none.build(lights, 0, 1024, 3, 7, 0);
+    CHECK(none.tile_of(3, 4, 320, 3, 7, 0).empty());
+  }
+
   TEST_CASE("M-cap: temporal history confidence stays <= (max_history + 1) x the new candidates; uncapped it grows") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     Options o = di_options(scene, 16, {"di.spatial_neighbors=0", "render.frames=30", "render.debug_view=confidence",

@@ -7,6 +7,7 @@
 //    glossy and delta neighbours, with no MIS to damp them), so no finite sample certifies a
 //    margin there; scripts/certify.sh reports those runs without asserting them;
 //  - ReSTIR DI without visibility reuse, with BSDF candidates, under a large light and a sky;
+//  - ReSTIR DI with tiny light tiles and sphere lights;
 //  - ReSTIR GI with reuse on a diffuse scene.
 #include <doctest/doctest.h>
 
@@ -124,6 +125,52 @@ Shape "trianglemesh"
       set_option(o, "di.temporal_mis", mis);
       certify_one(std::string("restir-di ") + mis, path, scene, o, certification(o.di.reuse.spatial_mis, 200, 200, 32768));
     }
+  }
+
+  TEST_CASE("ReSTIR DI with tiny light tiles and sphere lights (visible-cap sampling) is equivalent to direct lighting") {
+    // Spheres of very different power and size and a one-sided quad around an occluder; four tiles of
+    // 16 emitters (of 5) per frame, and the 16x16 image is one tile block: all pixels of a frame draw
+    // their candidates from the same 16 entries, so they and their neighbours are correlated.
+    // Visibility reuse with neighbour visibility: the unbiased default mode.
+    const std::string path = std::string(RESTIR_BINARY_DIR) + "/di-tiles-spheres.pbrt";
+    {
+      std::ofstream f(path);
+      f << R"(LookAt 0 3 -5  0 0.3 0.5  0 1 0
+Camera "perspective" "float fov" 50
+Film "rgb" "integer xresolution" 16 "integer yresolution" 16
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [20 18 15]
+  Translate -1 1.0 0
+  Shape "sphere" "float radius" 0.15
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [5 8 12]
+  Translate 1.2 0.6 0.8
+  Shape "sphere" "float radius" 0.3
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [100 95 90]
+  Translate 0.2 1.8 1.2
+  Shape "sphere" "float radius" 0.06
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [6 6 6]
+  Shape "trianglemesh" "point3 P" [ -0.5 2.5 -0.5  0.5 2.5 -0.5  0.5 2.5 0.5  -0.5 2.5 0.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [0.6 0.6 0.6]
+Shape "trianglemesh" "point3 P" [ -3 0 -3 -3 0 3 3 0 3 3 0 -3 ] "integer indices" [ 0 1 2 0 2 3 ]
+Shape "trianglemesh" "point3 P" [ -3 0 2 -3 2.5 2 3 2.5 2 3 0 2 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "rgb reflectance" [0.7 0.4 0.2]
+Shape "trianglemesh" "point3 P" [ -0.3 0 -0.3  0.3 0 -0.3  0.3 1.2 -0.3  -0.3 1.2 -0.3 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+    }
+    Scene scene = load_scene(path);
+    Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
+                                    "film.width=16", "film.height=16", "path.max_depth=1", "di.light_candidates=4",
+                                    "di.bsdf_candidates=1", "di.light_tiles=4", "di.light_tile_size=16",
+                                    "di.spatial_neighbors=6", "di.spatial_radius=4"});
+    certify_one("restir-di light tiles", path, scene, o, certification(o.di.reuse.spatial_mis, 400, 400, 32768));
   }
 
   TEST_CASE("ReSTIR GI with temporal and spatial reuse is equivalent to the path tracer on a diffuse scene") {

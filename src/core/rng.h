@@ -28,6 +28,7 @@ enum class RngPass : uint32_t {
   spatial = 5,
   reservoir = 6,
   misc = 7,
+  light_tiles = 8,
 };
 
 // PCG32 (O'Neill 2014): small state, good statistics, cheap to seed per pixel.

@@ -1,5 +1,9 @@
 #include "integrators/di_sampling.h"
 
+#include <algorithm>
+
+#include "core/parallel.h"
+
 namespace rl {
 
 namespace {
@@ -28,9 +32,17 @@ float to_sample_measure(const Lights& lights, const LightPoint& y, Vec3 p, float
   return 0;
 }
 
-StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y, bool need_bsdf) {
+// Density of the light strategy at y for the receiver s (selection pmf x Lights::sample_emitter's
+// density), in y's sample measure.
+float light_density(const Lights& lights, const GSurface& s, const LightPoint& y) {
+  if (lights.kind(y.emitter) == Lights::Kind::point) return lights.selection_pmf(y.emitter);
+  return to_sample_measure(lights, y, s.p, lights.pdf(y.emitter, s.p, y.position, y.normal));
+}
+
+// light_pdf: the light strategy's density when the caller has it (a light candidate), else < 0.
+StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y, bool need_bsdf, float light_pdf) {
   StrategyPdfs r;
-  r.light = lights.point_pdf(y.emitter, y.position);
+  r.light = light_pdf >= 0 ? light_pdf : light_density(lights, s, y);
   const Lights::Kind kind = lights.kind(y.emitter);
   if (!need_bsdf || kind == Lights::Kind::point) return r;  // BSDF sampling never hits a point light
   const Vec3 wi = kind == Lights::Kind::environment ? y.position : normalize(y.position - s.p);
@@ -89,7 +101,7 @@ float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y
 }
 
 DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
-                                 bool visibility, Pcg32& rng) {
+                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile) {
   DiReservoir r;
   r.confidence = float(light_candidates + bsdf_candidates);
   if (!s.valid || ctx.lights.empty() || bsdf_is_delta(s.bsdf)) return r;
@@ -103,24 +115,37 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   // is 0, which takes a shadow ray per light candidate. Counting it there (as before) left W short
   // on points occluded here and darkened the neighbours that reuse them where they are visible.
   const bool bsdf_visibility = !visibility && bsdf_candidates > 0;
-  // shadow: the light candidate's shadow ray (null for BSDF candidates, visible by construction).
-  auto weight = [&](const LightPoint& y, float target, const Ray* shadow) {
+  // shadow: the light candidate's shadow ray (null for BSDF candidates, visible by construction);
+  // light_pdf: its light-strategy density (< 0: compute it).
+  auto weight = [&](const LightPoint& y, float target, const Ray* shadow, float light_pdf) {
     if (!(target > 0)) return 0.0f;
-    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0);
+    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0, light_pdf);
     if (shadow && bsdf_visibility && p.bsdf > 0 && ctx.accel.occluded(*shadow)) p.bsdf = 0;
     float den = ml * p.light + mb * p.bsdf;
     return den > 0 ? target / den : 0.0f;
   };
+  const size_t tile_size = tile.size();
   for (int i = 0; i < light_candidates; ++i) {
-    EmitterPoint ep;
-    float u_select = rng.next_float();
-    Vec2 u = rng.next_2d();
-    float u_stream = rng.next_float();
-    if (!ctx.lights.sample_point(u_select, u, ep)) continue;
-    LightPoint y{ep.position, ep.normal, ep.emitter};
+    const float u_select = rng.next_float();
+    const Vec2 u = rng.next_2d();
+    const float u_stream = rng.next_float();
+    uint32_t e;
+    float pmf;
+    if (tile_size > 0) {  // the emitter from the pixel's tile: marginally by the selection pmf
+      const LightTileEntry& t = tile[std::min(tile_size - 1, size_t(u_select * float(tile_size)))];
+      e = t.emitter;
+      pmf = t.pmf;
+    } else {
+      e = ctx.lights.select_emitter(u_select, &pmf);
+    }
+    LightSample ls;
+    if (e == kNoEmitter || !ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
+    const LightPoint y{ls.position, ls.normal, e};
+    const bool point = ctx.lights.kind(e) == Lights::Kind::point;
+    const float light_pdf = point ? pmf : to_sample_measure(ctx.lights, y, s.p, ls.pdf * pmf);
     Ray shadow;
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps, &shadow));
-    restir::stream(r, y, t, weight(y, t, &shadow), u_stream);
+    restir::stream(r, y, t, weight(y, t, &shadow, light_pdf), u_stream);
   }
   const Vec3 wo_l = s.frame.to_local(s.wo);
   for (int i = 0; i < bsdf_candidates; ++i) {
@@ -143,7 +168,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     }
     if (y.emitter == kNoEmitter) continue;
     float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t, nullptr), u_stream);
+    restir::stream(r, y, t, weight(y, t, nullptr, -1.0f), u_stream);
   }
   restir::finalize(r);
   if (visibility && r.has_sample() && !(di_target(ctx, s, r.sample, true) > 0)) {
@@ -151,6 +176,30 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     r.target = 0;
   }
   return r;
+}
+
+void LightTiles::build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain) {
+  count_ = lights.empty() ? 0 : count;
+  size_ = size;
+  entries_.resize(size_t(std::max(count_, 0)) * size_t(std::max(size_, 0)));
+  if (count_ <= 0 || size_ <= 0) return;
+  parallel_for(count_, [&](int t) {  // one stream per tile: the same tiles whatever the thread count
+    Pcg32 rng = make_rng(uint32_t(t), frame, RngPass::light_tiles, seed, chain);
+    for (int i = 0; i < size_; ++i) {
+      LightTileEntry& en = entries_[size_t(t) * size_t(size_) + size_t(i)];
+      en.emitter = lights.select_emitter(rng.next_float(), &en.pmf);
+    }
+  });
+}
+
+std::span<const LightTileEntry> LightTiles::tile_of(int x, int y, int width, uint32_t frame, uint64_t seed,
+                                                     uint32_t chain) const {
+  if (count_ <= 0 || size_ <= 0) return {};
+  const int blocks_x = (width + kBlockPixels - 1) / kBlockPixels;
+  const uint32_t block = uint32_t((y / kBlockPixels) * blocks_x + x / kBlockPixels);
+  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
+  const size_t t = std::min(size_t(count_) - 1, size_t(rng.next_float() * float(count_)));
+  return {entries_.data() + t * size_t(size_), size_t(size_)};
 }
 
 Rgb di_specular(const RenderContext& ctx, const GSurface& s, Pcg32& rng) {

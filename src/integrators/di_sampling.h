@@ -3,6 +3,9 @@
 // light (counting measure). These measures do not depend on the shading point, so the shift
 // between pixels is the identity with jacobian 1 and a reservoir can be reused as is.
 #pragma once
+#include <span>
+#include <vector>
+
 #include "core/rng.h"
 #include "integrators/gbuffer.h"
 #include "restir/reservoir.h"
@@ -17,6 +20,34 @@ struct LightPoint {
 
 using DiReservoir = restir::Reservoir<LightPoint>;
 
+// One pre-selected emitter of a light tile and its selection probability.
+struct LightTileEntry {
+  uint32_t emitter = kNoEmitter;
+  float pmf = 0;
+};
+
+// Pre-sampled light tiles (Wyman and Panteleev 2021, "Rearchitecting spatiotemporal resampling for
+// production", §4.1; RTXDI's presampling pass): each frame, `count` tiles of `size` emitters drawn
+// independently from the light selection distribution; every pixel of a 16x16-pixel block draws
+// its light candidates' emitters uniformly from one tile, so they come from a few kilobytes that
+// stay in cache instead of from the whole light list. Each entry, hence each candidate, is
+// marginally distributed by the selection pmf, so the candidates' source pdf is unchanged and the
+// estimator stays unbiased: the resampling weights need only each candidate's marginal density,
+// and correlated candidates are allowed (Lin et al. 2022, GRIS §4, the unbiasedness of
+// E[f(Y) W] = sum_i E[m_i(X_i) f(X_i) / p_i(X_i)] uses linearity of expectation only).
+class LightTiles {
+ public:
+  // Draws the tiles of one frame (count 0: no tiles, candidates select from the whole list).
+  void build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain);
+  // The tile of pixel (x, y), chosen at random per 16x16-pixel block and frame; empty without tiles.
+  std::span<const LightTileEntry> tile_of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
+  static constexpr int kBlockPixels = 16;
+
+ private:
+  int count_ = 0, size_ = 0;
+  std::vector<LightTileEntry> entries_;
+};
+
 // The DI integrand at surface s for light point y, without visibility: f(wo, wi) |cos θ_s| Le G,
 // G = |cos θ_l| / d² for area emitters (area measure), 1/d² for point lights, 1 for the environment.
 // `shadow_ray` receives the ray that tests the visibility of y from s.
@@ -26,13 +57,14 @@ Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility);
 
 // Initial resampling (Talbot et al. 2005 RIS with the balance heuristic over the two strategies):
-// light_candidates from the receiver-independent light sampler (Lights::sample_point: by power,
-// then uniform by area) and bsdf_candidates by tracing BSDF samples to emitters,
+// light_candidates from the light sampler (emitter by the selection pmf -- from `tile` when given,
+// see LightTiles -- then a point on it for this surface, Lights::sample_emitter: the visible cap of
+// a sphere, uniform by area on triangles) and bsdf_candidates by tracing BSDF samples to emitters,
 // each with resampling weight p̂(x) / (M_l p_l(x) + M_b p_b(x)) (pdfs in the sample measure).
 // Confidence = M_l + M_b. With `visibility`, the chosen sample is shadow-tested and its weight
 // zeroed if occluded, making the reservoir's target p̂·V (Bitterli et al. 2020, §4.4 "visibility reuse").
 DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
-                                 bool visibility, Pcg32& rng);
+                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {});
 
 // Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
 // follows the specular direction and returns the throughput-weighted emission it sees.

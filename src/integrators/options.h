@@ -115,6 +115,8 @@ struct ReuseOptions {
 struct DiOptions {
   int light_candidates = 32;
   int bsdf_candidates = 1;
+  int light_tiles = 128;       // pre-sampled light tiles per frame (0: candidates select from all emitters)
+  int light_tile_size = 1024;  // emitters per tile
   bool visibility_reuse = true;
   bool neighbor_visibility = true;
   ReuseOptions reuse{.spatial_neighbors = 5, .spatial_radius = 30};
@@ -193,6 +195,8 @@ void visit_options(O& o, V& v) {
   v("path.rr_min_depth", o.path.rr_min_depth, "first bounce at which Russian roulette may terminate", Range{1, 1024});
   v("di.light_candidates", o.di.light_candidates, "initial light-sample candidates per pixel (M)", Range{0, 4096});
   v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
+  v("di.light_tiles", o.di.light_tiles, "pre-sampled light tiles per frame (RTXDI; Wyman and Panteleev 2021): each 16x16-pixel block draws its light candidates' emitters from one tile of di.light_tile_size emitters drawn by the selection pmf; unbiased; 0 = select from every emitter", Range{0, 65536});
+  v("di.light_tile_size", o.di.light_tile_size, "emitters per light tile (di.light_tiles)", Range{1, 1 << 20});
   v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse (false with BSDF candidates: one shadow ray per light candidate, for the strategies' MIS)");
   v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
   visit_reuse("di", o.di.reuse, v);

@@ -53,13 +53,20 @@ class RestirDi final : public Integrator {
       return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility};
     };
 
-    // 1. Initial candidates.
+    // 1. Initial candidates (their emitters from pre-sampled light tiles unless di.light_tiles = 0).
+    if (di.light_tiles > 0 && di.light_candidates > 0) {
+      StageTimer timer(frame.stages, "light_tiles");
+      tiles_.build(ctx_.lights, di.light_tiles, di.light_tile_size, f, seed, chain);
+    } else {
+      tiles_.build(ctx_.lights, 0, 0, f, seed, chain);
+    }
     {
       StageTimer timer(frame.stages, "candidates");
       parallel_for_pixels(w, h, [&](int x, int y) {
         const uint32_t p = uint32_t(y * w + x);
         Pcg32 rng = make_rng(p, f, RngPass::light_candidates, seed, chain);
-        c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng);
+        c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse,
+                                               rng, tiles_.tile_of(x, y, w, f, seed, chain));
       }, frame.progress);
     }
 
@@ -98,6 +105,7 @@ class RestirDi final : public Integrator {
 
   RenderContext ctx_;
   std::vector<Chain> chains_;
+  LightTiles tiles_;  // this frame's, rebuilt per chain
 };
 
 }  // namespace

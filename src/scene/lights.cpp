@@ -245,10 +245,23 @@ float Lights::point_pdf(uint32_t emitter, Vec3 position) const {
 
 bool Lights::sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const {
   out = {};
-  if (selection_.size() == 0) return false;
   float pmf = 0;
-  uint32_t idx = selection_.sample(u_select, &pmf);
-  if (!(pmf > 0)) return false;
+  const uint32_t idx = select_emitter(u_select, &pmf);
+  if (idx == kNoEmitter || !sample_emitter(idx, p, u, out)) return false;
+  out.pdf *= pmf;
+  return true;
+}
+
+uint32_t Lights::select_emitter(float u, float* pmf) const {
+  *pmf = 0;
+  if (selection_.size() == 0) return kNoEmitter;
+  const uint32_t idx = selection_.sample(u, pmf);
+  return *pmf > 0 ? idx : kNoEmitter;
+}
+
+bool Lights::sample_emitter(uint32_t idx, Vec3 p, Vec2 u, LightSample& out) const {
+  out = {};
+  if (idx >= emitters_.size()) return false;
   const Emitter& e = emitters_[idx];
   bool ok = false;
   switch (e.kind) {
@@ -274,7 +287,6 @@ bool Lights::sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const {
     out = {};
     return false;
   }
-  out.pdf *= pmf;
   out.emitter = idx;
   return true;
 }

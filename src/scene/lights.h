@@ -70,6 +70,11 @@ class Lights {
   // Sample a light for the shading point p: u_select picks the emitter (alias table over power, or
   // uniform), u the point on it. false = no sample (no lights, or zero radiance toward p).
   bool sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const;
+  // The two halves of sample(): the emitter (kNoEmitter when there is none; *pmf its selection
+  // probability), then a point on emitter e for p, out.pdf WITHOUT the selection probability
+  // (solid angle; point lights 1). Separate so that ReSTIR DI's light tiles can pre-select.
+  uint32_t select_emitter(float u, float* pmf) const;
+  bool sample_emitter(uint32_t e, Vec3 p, Vec2 u, LightSample& out) const;
   // Solid-angle pdf at p of sample() producing light_p on emitter e (with the selection pmf).
   // Point lights: 0. Environment emitter: light_p is taken as the direction (as in LightSample).
   // light_n is unused: the emitter's own geometric normal is used (the same as sample()).
