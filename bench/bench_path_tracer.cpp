@@ -3,6 +3,8 @@
 //   - raw Embree throughput on exactly the rays the path tracer traced (recorded, then replayed
 //     through Accel::intersect / occluded alone),
 //   - the share of a frame spent inside Embree = replay time / frame time (goal: >= 60%),
+//   - the wavefront path tracer (the integrator `pt`): ms/frame, rays/s (compare with Embree's
+//     replay rate) and the share of its frame in the batched ray-query stages,
 //   on the shared Cornell box and Veach MIS, and on the project teapot scene for contrast.
 // Ratios, not absolute numbers, are what to compare across machines.
 #include <CLI/CLI.hpp>
@@ -94,8 +96,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   const std::string shared = std::string(RESTIR_SHARED_DIR) + "/scenes/", own = std::string(RESTIR_SOURCE_DIR) + "/scenes/";
-  fmt::print("{:<12} {:>10} {:>12} {:>12} {:>14} {:>14} {:>10}\n", "scene", "ms/frame", "Mrays/s(PT)", "Msamples/s",
-             "Mrays/s(Embree)", "rays/sample", "in Embree");
+  fmt::print("{:<12} {:>10} {:>12} {:>12} {:>14} {:>14} {:>10} {:>12} {:>12} {:>10}\n", "scene", "ms/frame", "Mrays/s(PT)",
+             "Msamples/s", "Mrays/s(Embree)", "rays/sample", "in Embree", "wavefront ms", "Mrays/s(WF)", "in queries");
   // The two shared scenes the goal is stated for, and the project's teapots (9k triangles) for contrast.
   const std::pair<const char*, std::string> scenes[] = {{"cornell-box", shared + "cornell-box/scene-v4.pbrt"},
                                                         {"veach-mis", shared + "veach-mis/scene-v4.pbrt"},
@@ -119,11 +121,21 @@ int main(int argc, char** argv) {
       frame_s.push_back(run_frame(ctx, cam, false).seconds);
       embree_s.push_back(replay(accel, rec.rays, rec.shadow_rays));
     }
-    const double tf = bench::median(frame_s), te = bench::median(embree_s);
+    // The integrator `pt` itself: the wavefront path tracer (same paths, same rays as run_frame's
+    // path_radiance), with its stage times: "in queries" = the batched closest-hit and shadow stages.
+    std::vector<double> wf_ms, query_share;
+    for (int i = 0; i < repeats + 1; ++i) {
+      RenderResult r = render(scene, o);
+      if (i == 0) continue;  // warm-up (buffers allocated)
+      wf_ms.push_back(r.frame_ms[0]);
+      query_share.push_back((r.frame_stages[0].of("intersect") + r.frame_stages[0].of("shadow")) / r.frame_ms[0]);
+    }
+    const double tf = bench::median(frame_s), te = bench::median(embree_s), tw = bench::median(wf_ms) * 1e-3;
     double rays = double(rec.stats.rays + rec.stats.shadow_rays);
     double samples = double(width) * height * spp;
-    fmt::print("{:<12} {:>10.1f} {:>12.2f} {:>12.3f} {:>14.2f} {:>14.2f} {:>9.0f}%\n", name, tf * 1e3, rays / tf * 1e-6,
-               samples / tf * 1e-6, rays / te * 1e-6, rays / samples, 100 * te / tf);
+    fmt::print("{:<12} {:>10.1f} {:>12.2f} {:>12.3f} {:>14.2f} {:>14.2f} {:>9.0f}% {:>12.1f} {:>12.2f} {:>9.0f}%\n", name,
+               tf * 1e3, rays / tf * 1e-6, samples / tf * 1e-6, rays / te * 1e-6, rays / samples, 100 * te / tf, tw * 1e3,
+               rays / tw * 1e-6, 100 * bench::median(query_share));
   }
   return 0;
 }

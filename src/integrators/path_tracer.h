@@ -16,6 +16,31 @@ struct PathStats {
   std::vector<Ray>* record_shadow_rays = nullptr;
 };
 
+// The state of one path between bounces: what pbrt-v4's PathIntegrator::Li keeps in locals, as a
+// flat, trivially copyable record so that a wavefront loop can keep a buffer of them.
+struct PathState {
+  Ray ray;                   // the ray to trace next
+  Rgb L{0}, beta{1};         // radiance so far, throughput
+  Vec3 prev_p;               // the vertex `ray` left from
+  float prev_pdf = 0;        // solid-angle pdf of the direction that produced `ray`
+  bool specular = false;     // `ray` left a delta lobe
+  int depth = 0;             // bounces so far
+  Pcg32 rng;                 // the path's own random stream
+};
+// A next-event estimate waiting for its shadow ray: add `contribution` to L if `ray` is unoccluded.
+struct PendingShadow {
+  Ray ray;
+  Rgb contribution{0};
+  bool valid = false;
+};
+
+// One bounce of the path tracer, given the closest hit of st.ray (null: it escaped): adds the
+// emission it sees (MIS-weighted), prepares next-event estimation in `shadow`, samples the next
+// direction and applies Russian roulette. false: the path ends (after `shadow` is resolved).
+// path_radiance and the wavefront path tracer both run exactly this, so their images agree.
+bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st, const Hit* hit, PendingShadow& shadow,
+                 bool skip_first_emission = false);
+
 // Radiance arriving along `ray` (pbrt-v4 PathIntegrator::Li): emission, next-event estimation and
 // BSDF sampling combined with MIS, Russian roulette. Shared by the reference integrator and the
 // ReSTIR integrators for their reference/path parts.

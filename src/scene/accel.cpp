@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -139,6 +140,79 @@ bool Accel::occluded(const Ray& ray) const {
   r.flags = 0;
   rtcOccluded1(impl_->scene, &ctx, &r);
   return r.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
+
+namespace {
+constexpr size_t kStreamChunk = 256;  // rays per Embree stream call (on the stack)
+
+RTCRay to_rtc(const Ray& ray, bool safe) {
+  RTCRay r;
+  r.org_x = ray.o.x;
+  r.org_y = ray.o.y;
+  r.org_z = ray.o.z;
+  r.dir_x = ray.d.x;
+  r.dir_y = ray.d.y;
+  r.dir_z = ray.d.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  if (!safe) {  // a ray Embree would assert on: an empty one that hits nothing (see embree_safe)
+    r.org_x = r.org_y = r.org_z = 0;
+    r.dir_x = 0, r.dir_y = 0, r.dir_z = 1;
+    r.tnear = 0;
+    r.tfar = -1;
+  }
+  r.time = 0;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
+}  // namespace
+
+void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCRayHit buf[kStreamChunk];
+  for (size_t begin = 0; begin < rays.size(); begin += kStreamChunk) {
+    const size_t n = std::min(kStreamChunk, rays.size() - begin);
+    for (size_t i = 0; i < n; ++i) {
+      const Ray& ray = rays[begin + i];
+      buf[i].ray = to_rtc(ray, embree_safe(ray));
+      buf[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      buf[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect1M(impl_->scene, &ctx, buf, unsigned(n), sizeof(RTCRayHit));
+    for (size_t i = 0; i < n; ++i) {
+      Hit& h = hits[begin + i];
+      if (buf[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        h = Hit{};
+        continue;
+      }
+      h.t = buf[i].ray.tfar;
+      h.geom = buf[i].hit.geomID;
+      h.prim = buf[i].hit.primID;
+      h.u = buf[i].hit.u;
+      h.v = buf[i].hit.v;
+    }
+  }
+}
+
+void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool coherent) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCRay buf[kStreamChunk];
+  for (size_t begin = 0; begin < rays.size(); begin += kStreamChunk) {
+    const size_t n = std::min(kStreamChunk, rays.size() - begin);
+    bool safe[kStreamChunk];
+    for (size_t i = 0; i < n; ++i) {
+      safe[i] = embree_safe(rays[begin + i]);
+      buf[i] = to_rtc(rays[begin + i], safe[i]);
+    }
+    rtcOccluded1M(impl_->scene, &ctx, buf, unsigned(n), sizeof(RTCRay));
+    for (size_t i = 0; i < n; ++i) blocked[begin + i] = safe[i] && buf[i].tfar < 0 ? 1 : 0;  // Embree: tfar = -inf on a hit
+  }
 }
 
 SurfaceInteraction Accel::interaction(const Ray& ray, const Hit& hit) const {

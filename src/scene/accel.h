@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <span>
 
 #include "core/math.h"
 #include "scene/scene.h"
@@ -41,6 +42,12 @@ class Accel {
   bool intersect(const Ray& ray, Hit& hit) const;
   // Any hit in (ray.tmin, ray.tmax). Thread-safe.
   bool occluded(const Ray& ray) const;
+  // Batched queries, the wavefront core's ray interface: hits[i] / blocked[i] answer rays[i]
+  // (same results as the scalar calls). Embree's stream API (rtcIntersect1M / rtcOccluded1M), which
+  // traverses `coherent` batches (camera rays) as packets. Thread-safe; call from many threads on
+  // disjoint spans.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const;
+  void occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool coherent = false) const;
   SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
   uint32_t sphere_geom() const { return uint32_t(scene_.meshes.size()); }
   const Scene& scene() const { return scene_; }
