@@ -109,13 +109,19 @@ TEST_SUITE("slow") {
     struct Case {
       const char* scene;
       std::vector<const char*> sets;
+      int runs = 24;
     };
     const std::string cbox = shared_scene("cornell-box/scene-v4.pbrt"), veach = shared_scene("veach-mis/scene-v4.pbrt"),
                       many = own_scene("many-lights.pbrt");
     const Case cases[] = {
         {"cornell", {"di.spatial_mis=pairwise", "di.temporal_mis=generalized-balance"}},
         {"cornell", {"di.spatial_mis=generalized-balance", "di.temporal_mis=pairwise", "di.visibility_reuse=false"}},
-        {"cornell", {"di.spatial_mis=one-over-z", "di.temporal_mis=one-over-z", "di.similarity_rejection=false"}},
+        // 1/Z without similarity rejection: neighbours on other walls see the light at grazing
+        // angles, the ratio of targets is unbounded and the error heavy-tailed -- the sample mean
+        // runs low until the rare large weights appear. 24 runs met one block at z = -5.7 (image
+        // mean -1.05%) with the seeds of the light-tile change; 200 runs -0.08% and still z = 4.7;
+        // 600 runs +0.02%, worst block z = 1.6 (measured). It gets the runs it needs.
+        {"cornell", {"di.spatial_mis=one-over-z", "di.temporal_mis=one-over-z", "di.similarity_rejection=false"}, 600},
         // 1/Z is left out on Veach MIS: its near-mirror plates (GGX alpha 0.01) give neighbours
         // targets that are positive but ~1e-30, so 1/Z leans on astronomically rare, overflowing
         // weights — unbiased in exact arithmetic, heavy-tailed beyond what a test can average
@@ -131,7 +137,7 @@ TEST_SUITE("slow") {
       Scene scene = load_scene(path);
       Options o = di_options(scene, 24, {});
       for (const char* s : c.sets) set_option_assignment(o, s);
-      BlockStats st = compare_to_reference(scene, o, reference_options(o, 2048), 24, 4, 4.5);
+      BlockStats st = compare_to_reference(scene, o, reference_options(o, 2048), c.runs, 4, 4.5);
       std::string label = std::string(c.scene) + ":";
       for (const char* x : c.sets) label += std::string(" ") + x;
       CAPTURE(label);
