@@ -70,20 +70,20 @@ TEST_SUITE("cli") {
     std::ifstream in(d / "t.csv");
     std::string header;
     std::getline(in, header);
-    CHECK(header == "frame,ms,primary_ms,candidates_ms,temporal_ms,spatial_ms,shading_ms");
+    CHECK(header == "frame,ms,primary_ms,light_tiles_ms,candidates_ms,temporal_ms,spatial_ms,shading_ms");
     for (int f = 0; f < 3; ++f) {
       std::string line;
       REQUIRE(std::getline(in, line));
       std::vector<double> v;
       std::stringstream ss(line);
       for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
-      REQUIRE(v.size() == 7);
+      REQUIRE(v.size() == 8);
       CHECK(v[0] == f);
       double stages = 0;
       for (size_t i = 2; i < v.size(); ++i) stages += v[i];
       CHECK(stages <= v[1] * 1.001 + 0.01);
       CHECK(stages > 0);
-      CHECK((v[4] == 0) == (f == 0));  // temporal reuse needs a history
+      CHECK((v[5] == 0) == (f == 0));  // temporal reuse needs a history
     }
     fs::remove_all(d);
   }
