@@ -8,88 +8,80 @@ namespace rl {
 
 namespace {
 
-// Source pdfs of a light point in its sample measure, for the two candidate strategies.
-struct StrategyPdfs {
-  float light = 0, bsdf = 0;
+// Light point y as seen from surface s: the direction (world and shading frame), the radiance
+// arriving along it and g, the geometry factor of the DI integrand -- |cos θ_l| / d² for area
+// emitters, 1 / d² for point lights, 1 for the environment -- which is also the Jacobian from solid
+// angle at s to y's sample measure (area, counting, solid angle: Veach 1997 §8.2.2.2). Computed once
+// per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
+struct LightView {
+  Vec3 wi, wi_l;
+  Rgb le{0};
+  float g = 0;
 };
 
-// Converts a solid-angle pdf at p into the sample measure of y (area for area emitters).
-float to_sample_measure(const Lights& lights, const LightPoint& y, Vec3 p, float pdf_solid_angle) {
+// false: y sends nothing toward s (degenerate distance, back of a one-sided emitter, black).
+bool view_light(const Lights& lights, const GSurface& s, const LightPoint& y, LightView& v) {
   switch (lights.kind(y.emitter)) {
-    case Lights::Kind::triangle:
-    case Lights::Kind::sphere: {
-      Vec3 d = y.position - p;
-      float d2 = length_squared(d);
-      if (!(d2 > 0)) return 0;
-      float cos_l = std::fabs(dot(y.normal, d)) / std::sqrt(d2);
-      return pdf_solid_angle * cos_l / d2;
-    }
     case Lights::Kind::environment:
-      return pdf_solid_angle;
-    case Lights::Kind::point:
-      return pdf_solid_angle;  // the selection pmf (counting measure)
+      v.wi = y.position;
+      v.le = lights.environment_radiance(v.wi);
+      v.g = 1;
+      break;
+    case Lights::Kind::point: {
+      const Vec3 d = y.position - s.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return false;
+      v.wi = d / std::sqrt(d2);
+      v.le = lights.point_intensity(y.emitter);
+      v.g = 1 / d2;
+      break;
+    }
+    default: {
+      const Vec3 d = y.position - s.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return false;
+      v.wi = d / std::sqrt(d2);
+      v.le = lights.emitted(y.emitter, y.normal, -v.wi);
+      v.g = std::fabs(dot(y.normal, v.wi)) / d2;
+      break;
+    }
   }
-  return 0;
+  if (is_black(v.le)) return false;
+  v.wi_l = s.frame.to_local(v.wi);
+  return true;
+}
+
+// f(wo, wi) |cos θ_s| Le g, given wo in the shading frame.
+Rgb di_value(const GSurface& s, Vec3 wo_l, const LightView& v) {
+  const Rgb f = bsdf_eval(s.bsdf, wo_l, v.wi_l) * std::fabs(v.wi_l.z);
+  const Rgb value = f * v.le * v.g;
+  return is_finite(value) ? max(value, Rgb(0)) : value;  // non-finite: reported by the render driver, never hidden
+}
+
+// The ray that tests the visibility of y from s.
+Ray di_shadow_ray(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v, float eps) {
+  switch (lights.kind(y.emitter)) {
+    case Lights::Kind::environment: return spawn_ray(s.p, s.ng, v.wi, eps);
+    case Lights::Kind::point: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
+    default: return spawn_ray_to(s.p, s.ng, y.position, y.normal, eps);
+  }
 }
 
 // Density of the light strategy at y for the receiver s (selection pmf x Lights::sample_emitter's
 // density), in y's sample measure.
-float light_density(const Lights& lights, const GSurface& s, const LightPoint& y) {
+float light_density(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
   if (lights.kind(y.emitter) == Lights::Kind::point) return lights.selection_pmf(y.emitter);
-  return to_sample_measure(lights, y, s.p, lights.pdf(y.emitter, s.p, y.position, y.normal));
-}
-
-// light_pdf: the light strategy's density when the caller has it (a light candidate), else < 0.
-StrategyPdfs strategy_pdfs(const Lights& lights, const GSurface& s, const LightPoint& y, bool need_bsdf, float light_pdf) {
-  StrategyPdfs r;
-  r.light = light_pdf >= 0 ? light_pdf : light_density(lights, s, y);
-  const Lights::Kind kind = lights.kind(y.emitter);
-  if (!need_bsdf || kind == Lights::Kind::point) return r;  // BSDF sampling never hits a point light
-  const Vec3 wi = kind == Lights::Kind::environment ? y.position : normalize(y.position - s.p);
-  r.bsdf = to_sample_measure(lights, y, s.p, bsdf_pdf(s.bsdf, s.frame.to_local(s.wo), s.frame.to_local(wi)));
-  return r;
+  return lights.pdf(y.emitter, s.p, y.position, y.normal) * v.g;
 }
 
 }  // namespace
 
 Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, float eps, Ray* shadow_ray) {
   if (!s.valid || y.emitter == kNoEmitter) return Rgb(0);
-  Vec3 wi;
-  Rgb le;
-  float g;
-  switch (lights.kind(y.emitter)) {
-    case Lights::Kind::environment:
-      wi = y.position;
-      le = lights.environment_radiance(wi);
-      g = 1;
-      if (shadow_ray) *shadow_ray = spawn_ray(s.p, s.ng, wi, eps);
-      break;
-    case Lights::Kind::point: {
-      Vec3 d = y.position - s.p;
-      float d2 = length_squared(d);
-      if (!(d2 > 0)) return Rgb(0);
-      wi = d / std::sqrt(d2);
-      le = lights.point_intensity(y.emitter);
-      g = 1 / d2;
-      if (shadow_ray) *shadow_ray = spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
-      break;
-    }
-    default: {
-      Vec3 d = y.position - s.p;
-      float d2 = length_squared(d);
-      if (!(d2 > 0)) return Rgb(0);
-      wi = d / std::sqrt(d2);
-      le = lights.emitted(y.emitter, y.normal, -wi);
-      g = std::fabs(dot(y.normal, wi)) / d2;
-      if (shadow_ray) *shadow_ray = spawn_ray_to(s.p, s.ng, y.position, y.normal, eps);
-      break;
-    }
-  }
-  if (is_black(le)) return Rgb(0);
-  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
-  Rgb f = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
-  Rgb v = f * le * g;
-  return is_finite(v) ? max(v, Rgb(0)) : v;  // non-finite: reported by the render driver, never hidden
+  LightView v;
+  if (!view_light(lights, s, y, v)) return Rgb(0);
+  if (shadow_ray) *shadow_ray = di_shadow_ray(lights, s, y, v, eps);
+  return di_value(s, s.frame.to_local(s.wo), v);
 }
 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility) {
@@ -115,13 +107,18 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   // is 0, which takes a shadow ray per light candidate. Counting it there (as before) left W short
   // on points occluded here and darkened the neighbours that reuse them where they are visible.
   const bool bsdf_visibility = !visibility && bsdf_candidates > 0;
-  // shadow: the light candidate's shadow ray (null for BSDF candidates, visible by construction);
-  // light_pdf: its light-strategy density (< 0: compute it).
-  auto weight = [&](const LightPoint& y, float target, const Ray* shadow, float light_pdf) {
+  const Vec3 wo_l = s.frame.to_local(s.wo);
+  // light_pdf: the light strategy's density when the caller has it (a light candidate), else < 0;
+  // shadow_test: a light candidate whose BSDF density needs its visibility (above).
+  auto weight = [&](const LightPoint& y, const LightView& v, float target, float light_pdf, bool shadow_test) {
     if (!(target > 0)) return 0.0f;
-    StrategyPdfs p = strategy_pdfs(ctx.lights, s, y, bsdf_candidates > 0, light_pdf);
-    if (shadow && bsdf_visibility && p.bsdf > 0 && ctx.accel.occluded(*shadow)) p.bsdf = 0;
-    float den = ml * p.light + mb * p.bsdf;
+    const float p_light = light_pdf >= 0 ? light_pdf : light_density(ctx.lights, s, y, v);
+    float p_bsdf = 0;  // BSDF sampling never hits a point light
+    if (bsdf_candidates > 0 && ctx.lights.kind(y.emitter) != Lights::Kind::point) {
+      p_bsdf = bsdf_pdf(s.bsdf, wo_l, v.wi_l) * v.g;
+      if (shadow_test && bsdf_visibility && p_bsdf > 0 && ctx.accel.occluded(di_shadow_ray(ctx.lights, s, y, v, eps))) p_bsdf = 0;
+    }
+    const float den = ml * p_light + mb * p_bsdf;
     return den > 0 ? target / den : 0.0f;
   };
   const size_t tile_size = tile.size();
@@ -141,13 +138,12 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     LightSample ls;
     if (e == kNoEmitter || !ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
     const LightPoint y{ls.position, ls.normal, e};
-    const bool point = ctx.lights.kind(e) == Lights::Kind::point;
-    const float light_pdf = point ? pmf : to_sample_measure(ctx.lights, y, s.p, ls.pdf * pmf);
-    Ray shadow;
-    float t = luminance(di_unshadowed(ctx.lights, s, y, eps, &shadow));
-    restir::stream(r, y, t, weight(y, t, &shadow, light_pdf), u_stream);
+    LightView v;
+    const float t = view_light(ctx.lights, s, y, v) ? luminance(di_value(s, wo_l, v)) : 0.0f;
+    // sample_emitter's solid-angle density times the selection pmf, in y's sample measure.
+    const float light_pdf = ctx.lights.kind(e) == Lights::Kind::point ? pmf : ls.pdf * pmf * v.g;
+    restir::stream(r, y, t, weight(y, v, t, light_pdf, true), u_stream);
   }
-  const Vec3 wo_l = s.frame.to_local(s.wo);
   for (int i = 0; i < bsdf_candidates; ++i) {
     BsdfSample bs;
     float u_lobe = rng.next_float();
@@ -167,8 +163,9 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
       y.position = wi;
     }
     if (y.emitter == kNoEmitter) continue;
-    float t = luminance(di_unshadowed(ctx.lights, s, y, eps));
-    restir::stream(r, y, t, weight(y, t, nullptr, -1.0f), u_stream);
+    LightView v;
+    const float t = view_light(ctx.lights, s, y, v) ? luminance(di_value(s, wo_l, v)) : 0.0f;
+    restir::stream(r, y, t, weight(y, v, t, -1.0f, false), u_stream);
   }
   restir::finalize(r);
   if (visibility && r.has_sample() && !(di_target(ctx, s, r.sample, true) > 0)) {
