@@ -24,6 +24,7 @@ enum class GiTarget { radiance, contribution };
 enum class DirectLighting { path, restir_di };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
+enum class SsrFallback { environment, none };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
 enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
 
@@ -52,6 +53,10 @@ template <> struct EnumNames<GiTarget> {
 template <> struct EnumNames<DirectLighting> {
   static constexpr std::array<std::pair<DirectLighting, const char*>, 2> values{
       {{DirectLighting::path, "path"}, {DirectLighting::restir_di, "restir-di"}}};
+};
+template <> struct EnumNames<SsrFallback> {
+  static constexpr std::array<std::pair<SsrFallback, const char*>, 2> values{
+      {{SsrFallback::environment, "environment"}, {SsrFallback::none, "none"}}};
 };
 template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
@@ -138,6 +143,14 @@ struct PtOptions {
   ReuseOptions reuse;
 };
 
+// Screen-space reflections (integrator ssr; McGuire and Mara 2014's screen-space ray march).
+struct SsrOptions {
+  int max_steps = 512;            // pixels walked per ray at most
+  float thickness = 0.05f;        // a surface is hit when the ray is behind it by at most this x its distance
+  int rays = 1;                   // reflection rays per pixel sample
+  float roughness_cutoff = 0.3f;  // surfaces up to this roughness (sqrt(alpha_x alpha_y)) get reflections
+  SsrFallback fallback = SsrFallback::environment;
+};
 
 struct Options {
   std::string integrator = "pt";
@@ -147,6 +160,7 @@ struct Options {
   DiOptions di;
   GiOptions gi;
   PtOptions pt;
+  SsrOptions ssr;
   OutputOptions output;
 };
 
@@ -208,6 +222,11 @@ void visit_options(O& o, V& v) {
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   visit_reuse("pt", o.pt.reuse, v);
+  v("ssr.max_steps", o.ssr.max_steps, "screen-space reflections: pixels a reflection ray walks at most", Range{1, 1 << 16});
+  v("ssr.thickness", o.ssr.thickness, "a ray hits a surface when behind it by at most this fraction of its distance from the camera", Range{1e-5, 10});
+  v("ssr.rays", o.ssr.rays, "reflection rays per pixel sample", Range{1, 1024});
+  v("ssr.roughness_cutoff", o.ssr.roughness_cutoff, "surfaces with roughness (sqrt(alpha_x alpha_y); diffuse = 1) up to this get screen-space reflections, the others their direct light", Range{0, 1});
+  v("ssr.fallback", o.ssr.fallback, "what a ray that finds nothing on screen returns: the environment map or nothing");
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});
