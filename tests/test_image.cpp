@@ -542,4 +542,19 @@ TEST_CASE("image_stats counts NaN, inf and negative pixels and averages finite l
   CHECK(image_stats(Image(3, 3, Rgb(0.5f))).mean_luminance == doctest::Approx(0.5));
 }
 
+
+TEST_CASE("rel_mse over a mask: the mean over the masked pixels only; empty mask NaN; wrong size throws") {
+  Image ref(4, 1), test(4, 1);
+  for (int x = 0; x < 4; ++x) {
+    ref.at(x, 0) = Rgb(1.0f);
+    test.at(x, 0) = Rgb(x < 2 ? 1.0f : 2.0f);  // error only on pixels 2 and 3
+  }
+  const std::vector<uint8_t> left{1, 1, 0, 0}, right{0, 0, 1, 1}, none{0, 0, 0, 0}, short_mask{1, 1};
+  const double per_pixel = 1.0 / (1.01 * 1.01);
+  CHECK(rel_mse(test, ref, &left) == 0.0);
+  CHECK(rel_mse(test, ref, &right) == doctest::Approx(per_pixel));
+  CHECK(rel_mse(test, ref) == doctest::Approx(per_pixel / 2));
+  CHECK(std::isnan(rel_mse(test, ref, &none)));
+  CHECK_THROWS_AS(rel_mse(test, ref, &short_mask), std::invalid_argument);
+}
 }  // TEST_SUITE

@@ -330,6 +330,19 @@ TEST_CASE("scenes: env-object") {
   CHECK(v.spheres > 0);
 }
 
+TEST_CASE("scenes: mirror-floor (glossy floor, a mirror panel, boxes on, across and above the frame)") {
+  Scene s = load("mirror-floor");
+  int glossy = 0, smooth = 0, diffuse = 0;
+  for (const Material& m : s.materials) {
+    if (m.type == Material::Type::diffuse) ++diffuse;
+    if (m.type == Material::Type::conductor) (m.alpha_x < 1e-3f ? smooth : glossy) += 1;
+  }
+  CHECK(glossy >= 1);
+  CHECK(smooth >= 1);
+  CHECK(diffuse >= 3);
+  CHECK(s.meshes.size() == 6);  // floor, panel, three boxes, the light
+}
+
 TEST_CASE("scenes: stripes (mixed roughness on one surface, one large area light)") {
   Scene s = load("stripes");
   CHECK(light_count(s) == 1);

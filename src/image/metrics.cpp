@@ -2,6 +2,7 @@
 #include "image/metrics.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -41,11 +42,15 @@ void check_pair(const Image& test, const Image& ref, const char* fn) {
 
 // (1/N) Σ over pixels and channels of term(t, r), N = 3 * pixels.
 template <class F>
-double channel_mean(const Image& test, const Image& ref, F term) {
+double channel_mean(const Image& test, const Image& ref, F term, const std::vector<uint8_t>* mask = nullptr) {
   double sum = 0;
-  for (size_t i = 0; i < test.pixels.size(); ++i)
+  size_t n = 0;
+  for (size_t i = 0; i < test.pixels.size(); ++i) {
+    if (mask && !(*mask)[i]) continue;
     for (int c = 0; c < 3; ++c) sum += term(double(test.pixels[i][c]), double(ref.pixels[i][c]));
-  return sum / (3.0 * double(test.pixels.size()));
+    ++n;
+  }
+  return n ? sum / (3.0 * double(n)) : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace
@@ -55,10 +60,14 @@ double mse(const Image& test, const Image& ref) {
   return channel_mean(test, ref, [](double t, double r) { return (t - r) * (t - r); });
 }
 
-double rel_mse(const Image& test, const Image& ref, double eps) {
+double rel_mse(const Image& test, const Image& ref, double eps) { return rel_mse(test, ref, nullptr, eps); }
+
+double rel_mse(const Image& test, const Image& ref, const std::vector<uint8_t>* mask, double eps) {
   check_pair(test, ref, "rel_mse");
   if (!(eps >= 0) || !std::isfinite(eps))
     throw std::invalid_argument(fmt::format("rel_mse: eps must be finite and >= 0, got {}", eps));
+  if (mask && mask->size() != test.pixels.size())
+    throw std::invalid_argument(fmt::format("rel_mse: mask of {} pixels for {} pixels", mask->size(), test.pixels.size()));
   // pbrt-v4 Image::MRSE: rse = Sqr(v - vref) / Sqr(vref + 0.01); infinite terms skipped.
   return channel_mean(test, ref, [eps](double t, double r) {
     double d = t - r, den = (r + eps) * (r + eps);
@@ -66,7 +75,7 @@ double rel_mse(const Image& test, const Image& ref, double eps) {
     if (den == 0) return 0.0;  // infinite term: skipped as in pbrt (still counted in N)
     double rse = d * d / den;
     return std::isinf(rse) ? 0.0 : rse;
-  });
+  }, mask);
 }
 
 double mean_abs_error(const Image& test, const Image& ref) {

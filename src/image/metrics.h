@@ -11,6 +11,9 @@
 //  - An empty image (0 pixels) or an Image whose pixel count differs from width x height is
 //    std::invalid_argument too (the mean of nothing is not 0).
 #pragma once
+#include <cstdint>
+#include <vector>
+
 #include "image/image.h"
 
 namespace rl {
@@ -25,6 +28,8 @@ double mse(const Image& test, const Image& ref);
 // and several ReSTIR papers); for r >> eps the two agree, near black they differ.
 // Like pbrt, a term whose denominator is 0 (r == -eps) is skipped (counted as 0 but kept in N).
 double rel_mse(const Image& test, const Image& ref, double eps = 0.01);
+// The same over the pixels where mask != 0 only (N = 3 x their count); NaN when the mask is empty.
+double rel_mse(const Image& test, const Image& ref, const std::vector<uint8_t>* mask, double eps = 0.01);
 
 // MAE = (1/N) Σ |t - r|
 double mean_abs_error(const Image& test, const Image& ref);

@@ -34,6 +34,22 @@ double flip_metric(const Image& test, const Image& ref, const OutputOptions& o) 
 #endif
 }
 
+double flip_metric(const Image& test, const Image& ref, const OutputOptions& o, const std::vector<uint8_t>& mask) {
+#ifdef RESTIR_STUDY_HAS_FLIP
+  OutputOptions srgb = o;
+  srgb.srgb = true;
+  const Image map = flip_error_map(tonemap(test, srgb), tonemap(ref, srgb));
+  double sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < map.pixels.size() && i < mask.size(); ++i)
+    if (mask[i]) sum += double(map.pixels[i].x), ++n;
+  return n ? sum / double(n) : std::numeric_limits<double>::quiet_NaN();
+#else
+  (void)test, (void)ref, (void)o, (void)mask;
+  return std::numeric_limits<double>::quiet_NaN();
+#endif
+}
+
 namespace {
 [[maybe_unused]] float luminance(const Rgb& c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
 

@@ -2,7 +2,9 @@
 // image/flip.h is built in, else the relative error), zoomed crops for the report, and the metrics
 // that compare an image with its reference.
 #pragma once
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "integrators/options.h"
@@ -12,6 +14,8 @@ namespace rl::study {
 // Mean LDR-FLIP of the tone-mapped images (o = the configuration's output options), or NaN when
 // no FLIP implementation is compiled in.
 double flip_metric(const Image& test, const Image& ref, const OutputOptions& o);
+// The same over the pixels where mask != 0 (NaN when the mask is empty).
+double flip_metric(const Image& test, const Image& ref, const OutputOptions& o, const std::vector<uint8_t>& mask);
 bool flip_available();
 
 // Error map as a colour-mapped LDR image (black -> red -> yellow -> white): FLIP of the tone-mapped

@@ -23,6 +23,7 @@
 #include "integrators/render.h"
 #include "scene/loader.h"
 #include "study/images.h"
+#include "study/masks.h"
 #include "study/plots.h"
 #include "study/references.h"
 #include "study/report.h"
@@ -171,10 +172,15 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
     r.options = values;
     return r;
   };
-  auto image_metrics = [&](Row& row, const Image& img, const Image& ref, bool flip) {
+  std::vector<uint8_t> reflective;  // pixels of glossy/specular primary surfaces, at the last frame's camera
+  if (s.has_metric("relmse_reflective") || s.has_metric("flip_reflective"))
+    reflective = reflective_mask(sd.scene, o, camera_at(sd.scene, o, o.render.frames - 1), kReflectiveRoughness);
+  auto image_metrics = [&](Row& row, const Image& img, const Image& ref, bool last) {
     if (s.has_metric("mse")) row.metrics["mse"] = mse(img, ref);
     if (s.has_metric("relmse")) row.metrics["relmse"] = rel_mse(img, ref);
-    if (s.has_metric("flip") && flip) row.metrics["flip"] = flip_metric(img, ref, o.output);
+    if (s.has_metric("flip") && last) row.metrics["flip"] = flip_metric(img, ref, o.output);
+    if (s.has_metric("relmse_reflective") && last) row.metrics["relmse_reflective"] = rel_mse(img, ref, &reflective);
+    if (s.has_metric("flip_reflective") && last) row.metrics["flip_reflective"] = flip_metric(img, ref, o.output, reflective);
   };
 
   RenderHooks hooks;

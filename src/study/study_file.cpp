@@ -170,19 +170,21 @@ void parse_common(const json& j, Study& s, const std::string& file) {
 }  // namespace
 
 const std::vector<std::string>& known_metrics() {
-  static const std::vector<std::string> m = {"time", "mse", "relmse", "flip", "noise", "convergence"};
+  static const std::vector<std::string> m = {"time", "mse", "relmse", "flip", "noise", "convergence", "relmse_reflective",
+                                             "flip_reflective"};
   return m;
 }
 
 bool Study::has_metric(const std::string& m) const { return std::find(metrics.begin(), metrics.end(), m) != metrics.end(); }
 
 bool Study::needs_reference() const {
-  return has_metric("mse") || has_metric("relmse") || has_metric("flip") || has_metric("convergence");
+  return has_metric("mse") || has_metric("relmse") || has_metric("flip") || has_metric("convergence") ||
+         has_metric("relmse_reflective") || has_metric("flip_reflective");
 }
 
 std::vector<std::string> metric_columns(const Study& s) {
   std::vector<std::string> c = {"ms_median", "ms_iqr", "fps"};
-  for (const char* m : {"mse", "relmse", "flip", "convergence", "noise"})
+  for (const char* m : {"mse", "relmse", "flip", "convergence", "noise", "relmse_reflective", "flip_reflective"})
     if (s.has_metric(m)) c.push_back(m);
   return c;
 }
