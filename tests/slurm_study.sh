@@ -14,6 +14,10 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+if [ "$(id -u)" -ne 0 ]; then
+  echo "skipped: the private Slurm cluster needs root (slurmd runs the jobs)" >&2
+  exit 77
+fi
 if ! out="$(bash "$root/scripts/slurm-local.sh" start "$work/cluster" 2>&1)"; then
   if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
     echo "skipped: Slurm (slurm-wlm, munge) is not installed and could not be installed here: $out" >&2
