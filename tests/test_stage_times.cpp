@@ -34,10 +34,15 @@ TEST_SUITE("stage_times") {
         CHECK(!r.frame_stages[f].ms.empty());
         CHECK(r.frame_stages[f].total() <= r.frame_ms[f] * 1.001 + 0.01);
       }
-      if (name != "pt") {
+      if (name.starts_with("restir-")) {
         CHECK(r.frame_stages[1].of("temporal") > 0);
         CHECK(r.frame_stages[0].of("temporal") == 0);
         CHECK(r.frame_stages[1].of("candidates") > 0);
+      } else if (name == "pt") {
+        CHECK(r.frame_stages[1].of("intersect") > 0);
+        CHECK(r.frame_stages[1].of("shade") > 0);
+      } else if (name == "ssr") {
+        CHECK(r.frame_stages[1].of("reflections") > 0);
       }
     }
   }
