@@ -343,6 +343,16 @@ TEST_CASE("scenes: mirror-floor (glossy floor, a mirror panel, boxes on, across 
   CHECK(s.meshes.size() == 6);  // floor, panel, three boxes, the light
 }
 
+TEST_CASE("scenes: teapot-table (three teapots on a glossy table top)") {
+  Scene s = load("teapot-table");
+  int teapots = 0, glossy = 0;
+  for (const TriangleMesh& m : s.meshes) teapots += m.triangle_count() > 1000 ? 1 : 0;
+  for (const Material& m : s.materials)
+    glossy += m.type == Material::Type::conductor && std::sqrt(m.alpha_x * m.alpha_y) <= 0.3f ? 1 : 0;
+  CHECK(teapots == 3);
+  CHECK(glossy >= 3);  // chrome, gold, the table top
+}
+
 TEST_CASE("scenes: stripes (mixed roughness on one surface, one large area light)") {
   Scene s = load("stripes");
   CHECK(light_count(s) == 1);
