@@ -90,61 +90,10 @@ bool embree_safe(const Ray& r) {
   return is_finite(r.o) && is_finite(r.d) && std::fabs(r.o.x) < kLarge && std::fabs(r.o.y) < kLarge &&
          std::fabs(r.o.z) < kLarge && std::isfinite(r.tmin) && r.tmin >= 0 && !std::isnan(r.tmax) && r.tmax >= r.tmin;
 }
-}  // namespace
 
-bool Accel::intersect(const Ray& ray, Hit& hit) const {
-  if (!embree_safe(ray)) return false;
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = ray.o.x;
-  rh.ray.org_y = ray.o.y;
-  rh.ray.org_z = ray.o.z;
-  rh.ray.dir_x = ray.d.x;
-  rh.ray.dir_y = ray.d.y;
-  rh.ray.dir_z = ray.d.z;
-  rh.ray.tnear = ray.tmin;
-  rh.ray.tfar = ray.tmax;
-  rh.ray.time = 0;
-  rh.ray.mask = 0xffffffffu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit.t = rh.ray.tfar;
-  hit.geom = rh.hit.geomID;
-  hit.prim = rh.hit.primID;
-  hit.u = rh.hit.u;
-  hit.v = rh.hit.v;
-  return true;
-}
-
-bool Accel::occluded(const Ray& ray) const {
-  if (!embree_safe(ray)) return false;
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRay r;
-  r.org_x = ray.o.x;
-  r.org_y = ray.o.y;
-  r.org_z = ray.o.z;
-  r.dir_x = ray.d.x;
-  r.dir_y = ray.d.y;
-  r.dir_z = ray.d.z;
-  r.tnear = ray.tmin;
-  r.tfar = ray.tmax;
-  r.time = 0;
-  r.mask = 0xffffffffu;
-  r.id = 0;
-  r.flags = 0;
-  rtcOccluded1(impl_->scene, &ctx, &r);
-  return r.tfar < 0;  // Embree sets tfar = -inf on a hit
-}
-
-namespace {
 constexpr size_t kStreamChunk = 256;  // rays per Embree stream call (on the stack)
 
+// Every query fills Embree's ray and reads its hit through these two.
 RTCRay to_rtc(const Ray& ray, bool safe) {
   RTCRay r;
   r.org_x = ray.o.x;
@@ -167,7 +116,40 @@ RTCRay to_rtc(const Ray& ray, bool safe) {
   r.flags = 0;
   return r;
 }
+
+Hit to_hit(const RTCRayHit& rh) {
+  Hit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  h.t = rh.ray.tfar;
+  h.geom = rh.hit.geomID;
+  h.prim = rh.hit.primID;
+  h.u = rh.hit.u;
+  h.v = rh.hit.v;
+  return h;
+}
 }  // namespace
+
+bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  if (!embree_safe(ray)) return false;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray = to_rtc(ray, true);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  hit = to_hit(rh);
+  return hit.valid();
+}
+
+bool Accel::occluded(const Ray& ray) const {
+  if (!embree_safe(ray)) return false;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r = to_rtc(ray, true);
+  rtcOccluded1(impl_->scene, &ctx, &r);
+  return r.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
 
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
   RTCIntersectContext ctx;
@@ -183,18 +165,7 @@ void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coher
       buf[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect1M(impl_->scene, &ctx, buf, unsigned(n), sizeof(RTCRayHit));
-    for (size_t i = 0; i < n; ++i) {
-      Hit& h = hits[begin + i];
-      if (buf[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        h = Hit{};
-        continue;
-      }
-      h.t = buf[i].ray.tfar;
-      h.geom = buf[i].hit.geomID;
-      h.prim = buf[i].hit.primID;
-      h.u = buf[i].hit.u;
-      h.v = buf[i].hit.v;
-    }
+    for (size_t i = 0; i < n; ++i) hits[begin + i] = to_hit(buf[i]);
   }
 }
 
