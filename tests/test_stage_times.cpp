@@ -43,6 +43,7 @@ TEST_SUITE("stage_times") {
         CHECK(r.frame_stages[1].of("shade") > 0);
       } else if (name == "ssr") {
         CHECK(r.frame_stages[1].of("reflections") > 0);
+        CHECK(r.frame_stages[1].of("resolve") > 0);
       }
     }
   }

@@ -6,30 +6,35 @@
 
 namespace rl {
 
+void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s) {
+  s = GSurface{};
+  if (!hit) {
+    s.background = ctx.lights.environment_radiance(ray.d);
+    return;
+  }
+  SurfaceInteraction si = ctx.accel.interaction(ray, *hit);
+  s.valid = true;
+  s.p = si.p;
+  s.ng = si.ng;
+  s.ns = si.ns;
+  s.frame = Frame::from_normal(si.ns);
+  s.wo = -ray.d;
+  s.depth = hit->t;
+  const Material& mat = ctx.scene.materials[size_t(si.material)];
+  s.bsdf = make_bsdf(mat, material_reflectance(ctx.scene, mat, si.uv));
+  uint32_t e = si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
+  if (e != kNoEmitter) s.emitted = ctx.lights.emitted(e, si.ng, s.wo);
+}
+
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
   g.width = camera.width();
   g.height = camera.height();
   g.pixels.assign(size_t(g.width) * size_t(g.height), GSurface{});
   parallel_for_pixels(g.width, g.height, [&](int x, int y) {
-    GSurface& s = g.pixels[size_t(y) * size_t(g.width) + size_t(x)];
     Ray ray = camera_ray(ctx, camera, x, y, frame, sample);
     Hit hit;
-    if (!ctx.accel.intersect(ray, hit)) {
-      s.background = ctx.lights.environment_radiance(ray.d);
-      return;
-    }
-    SurfaceInteraction si = ctx.accel.interaction(ray, hit);
-    s.valid = true;
-    s.p = si.p;
-    s.ng = si.ng;
-    s.ns = si.ns;
-    s.frame = Frame::from_normal(si.ns);
-    s.wo = -ray.d;
-    s.depth = hit.t;
-    const Material& mat = ctx.scene.materials[size_t(si.material)];
-    s.bsdf = make_bsdf(mat, material_reflectance(ctx.scene, mat, si.uv));
-    uint32_t e = si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
-    if (e != kNoEmitter) s.emitted = ctx.lights.emitted(e, si.ng, s.wo);
+    const bool found = ctx.accel.intersect(ray, hit);
+    fill_gsurface(ctx, ray, found ? &hit : nullptr, g.pixels[size_t(y) * size_t(g.width) + size_t(x)]);
   });
 }
 

@@ -27,6 +27,9 @@ struct GBuffer {
   const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
+// The G-buffer entry of a primary ray and its closest hit (null: it escaped).
+void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s);
+
 // One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter).
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);
 

@@ -150,6 +150,11 @@ struct SsrOptions {
   int rays = 1;                   // reflection rays per pixel sample
   float roughness_cutoff = 0.3f;  // surfaces up to this roughness (sqrt(alpha_x alpha_y)) get reflections
   SsrFallback fallback = SsrFallback::environment;
+  bool hi_z = true;               // march a hierarchical depth buffer (else one probe per pixel)
+  int resolve_neighbors = 4;      // neighbours' rays each glossy pixel reuses in the resolve (0 = none)
+  float resolve_radius = 4;       // resolve neighbourhood radius in pixels
+  bool temporal = false;          // accumulate reflections over frames (reprojected)
+  float temporal_alpha = 0.1f;    // weight of the new frame in that running average
 };
 
 struct Options {
@@ -227,6 +232,11 @@ void visit_options(O& o, V& v) {
   v("ssr.rays", o.ssr.rays, "reflection rays per pixel sample", Range{1, 1024});
   v("ssr.roughness_cutoff", o.ssr.roughness_cutoff, "surfaces with roughness (sqrt(alpha_x alpha_y); diffuse = 1) up to this get screen-space reflections, the others their direct light", Range{0, 1});
   v("ssr.fallback", o.ssr.fallback, "what a ray that finds nothing on screen returns: the environment map or nothing");
+  v("ssr.hi_z", o.ssr.hi_z, "march a hierarchical depth buffer, skipping cells the ray passes in front of (Uludag 2014); false: one probe per pixel (McGuire and Mara 2014); ssr.max_steps counts cells or probes");
+  v("ssr.resolve_neighbors", o.ssr.resolve_neighbors, "stochastic SSR resolve (Stachowiak 2015): a glossy pixel also reuses the rays of this many neighbours, weighted by its own BRDF over their pdf (less noise, some bias); 0 = its own rays only; mirrors use their own", Range{0, 64});
+  v("ssr.resolve_radius", o.ssr.resolve_radius, "radius in pixels of the resolve's neighbourhood", Range{0, 256});
+  v("ssr.temporal", o.ssr.temporal, "accumulate the reflective pixels over frames: reproject into the previous frame and blend (exponential average; history rejected where depth or normal changed)");
+  v("ssr.temporal_alpha", o.ssr.temporal_alpha, "ssr.temporal: weight of the new frame in the running average (1 = no history)", Range{1e-3, 1});
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});

@@ -104,18 +104,27 @@ bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st
   return true;
 }
 
-Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
-                  bool skip_first_emission) {
+namespace {
+// path_radiance's loop; `first` (when set) is the closest hit of `ray` already found by the
+// caller, *first_found whether there was one.
+Rgb trace_path(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
+               bool skip_first_emission, const Hit* first, bool first_found) {
   PathState st;
   st.ray = ray;
   st.rng = rng;
-  for (;;) {
+  for (bool known = first != nullptr;; known = false) {
     Hit hit;
-    if (stats) {
-      ++stats->rays;
-      if (stats->record_rays) stats->record_rays->push_back(st.ray);
+    bool found;
+    if (known) {
+      found = first_found;
+      if (found) hit = *first;
+    } else {
+      if (stats) {
+        ++stats->rays;
+        if (stats->record_rays) stats->record_rays->push_back(st.ray);
+      }
+      found = ctx.accel.intersect(st.ray, hit);
     }
-    const bool found = ctx.accel.intersect(st.ray, hit);
     PendingShadow shadow;
     const bool alive = path_bounce(ctx, opt, st, found ? &hit : nullptr, shadow, skip_first_emission);
     if (shadow.valid) {
@@ -129,6 +138,17 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
   }
   rng = st.rng;
   return st.L;
+}
+}  // namespace
+
+Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
+                  bool skip_first_emission) {
+  return trace_path(ctx, opt, ray, rng, stats, skip_first_emission, nullptr, false);
+}
+
+Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng) {
+  const Hit none;
+  return trace_path(ctx, opt, ray, rng, nullptr, false, hit ? hit : &none, hit != nullptr);
 }
 
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {

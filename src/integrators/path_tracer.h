@@ -49,6 +49,10 @@ bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st
 Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats = nullptr,
                   bool skip_first_emission = false);
 
+// path_radiance of a ray whose closest hit the caller already has (hit null: the ray escaped),
+// e.g. a G-buffer's primary hit: the same random numbers and the same result, one ray fewer.
+Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng);
+
 // Shadow ray from surface point p (geometric normal ng) to a light sample: toward its point, or
 // unbounded toward the environment. Both next-event estimators (path tracer, ReSTIR GI) use it.
 inline Ray shadow_ray_to_light(Vec3 p, Vec3 ng, const LightSample& ls, float eps) {

@@ -8,104 +8,47 @@
 //      visible normals for glossy lobes, the mirror direction for smooth ones), each marched through
 //      the depth buffer (screen_march) and weighted f |cos| / pdf; a hit returns the lit colour of
 //      the pixel it lands on, a miss the environment (ssr.fallback = environment) or nothing.
-// The march is the perspective-correct screen-space DDA of McGuire and Mara 2014 ("Efficient GPU
-// screen-space ray tracing", JCGT 3(4)): the segment is clipped to the near plane, projected, and
-// walked one pixel per step with 1/z interpolated linearly in screen space; a step whose point lies
-// behind the visible surface by at most ssr.thickness (relative to that surface's distance) is a
-// hit, refined by bisection.
+//   3. the resolve (Stachowiak 2015, "Stochastic screen-space reflections", SIGGRAPH Advances in
+//      Real-Time Rendering): a glossy pixel also reuses the rays its neighbours traced, each
+//      weighted by this pixel's BRDF x cosine over the pdf it was drawn with, normalised by the sum
+//      of the weights and scaled by this pixel's directional albedo (its own rays' mean f cos/pdf):
+//      a ratio estimator -- much less noise, slightly biased, as in the engines;
+//   4. optionally (ssr.temporal), the reflective pixels blend with the previous frame's, reprojected.
+// The march (ssr_march.h) walks a hierarchical depth buffer (Hi-Z) or, for comparison, every pixel.
+// The primary hits are traced once: the lit colour continues the G-buffer's paths.
 // What it cannot show, by design (README "Screen-space reflections"): objects off screen or hidden
 // from the camera, reflections of reflections (a mirror seen in a mirror shows its own lit colour),
 // light arriving at glossy surfaces from emitters off screen, glass transmission (the transmitted
 // direction returns the fallback), and view-dependent colour of the surface a ray lands on.
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <span>
 
 #include "core/parallel.h"
+#include "core/sampling.h"
 #include "integrators/gbuffer.h"
 #include "integrators/path_tracer.h"
+#include "integrators/ssr_march.h"
 #include "scene/bsdf.h"
 
 namespace rl {
 
 namespace {
 
-struct MarchResult {
-  bool hit = false;
-  int x = 0, y = 0;  // the pixel the ray landed on
+// One reflection ray a pixel traced, kept for the resolve of its neighbours.
+struct ReflectionRay {
+  bool valid = false;  // a direction was drawn
+  bool hit = false;    // it landed on a pixel (else: fallback)
+  Vec3 dir;            // world direction
+  Vec3 hit_p;          // the surface point it landed on
+  Rgb radiance{0};     // what it returned: the landed pixel's lit colour, the fallback or nothing
+  Rgb weight{0};       // f |cos| / pdf at the pixel that traced it
+  float pdf = 0;       // solid-angle pdf of dir (0: a delta lobe)
 };
 
-// Marches the ray (o, d) through the G-buffer of `camera` (McGuire and Mara 2014; see the file
-// comment). max_distance bounds the segment (the scene's extent).
-MarchResult screen_march(const PerspectiveCamera& camera, const GBuffer& g, Vec3 o, Vec3 d, float max_distance,
-                         int max_steps, float thickness) {
-  MarchResult r;
-  const Vec3 cam = camera.position(), fwd = camera.forward();
-  const float z0 = dot(o - cam, fwd);
-  const float near = 1e-4f * std::max(1.0f, max_distance);
-  if (!(z0 > near)) return r;
-  float t1 = max_distance;
-  const float dz = dot(d, fwd);
-  if (dz < 0) t1 = std::min(t1, (near - z0) / dz);  // clip to the near plane
-  const Vec3 e = o + d * t1;
-  const float z1 = dot(e - cam, fwd);
-  Vec2 s0, s1;
-  camera.project(o, s0);  // raster positions, on screen or not (both points are in front)
-  camera.project(e, s1);
-  const float pixels = std::max(std::fabs(s1.x - s0.x), std::fabs(s1.y - s0.y));
-  const int steps = std::min(max_steps, int(std::ceil(pixels)));
-  if (steps < 1) return r;
-  // World point at screen-space fraction a: 1/z and p/z are linear in screen space.
-  auto point_at = [&](float a) {
-    const float inv_z = (1 - a) / z0 + a / z1;
-    return (o * ((1 - a) / z0) + e * (a / z1)) / inv_z;
-  };
-  // Pixel of a point and how far behind the visible surface it is (< 0: in front; NaN: no surface).
-  auto probe = [&](Vec3 p, int& x, int& y) {
-    Vec2 s;
-    if (!camera.project(p, s)) return std::numeric_limits<float>::quiet_NaN();
-    x = std::min(g.width - 1, int(s.x));
-    y = std::min(g.height - 1, int(s.y));
-    const GSurface& sf = g.at(x, y);
-    if (!sf.valid) return -1.0f;  // background: nothing to hit there
-    return length(p - cam) - sf.depth;
-  };
-  float a_prev = 0;
-  for (int i = 1; i <= steps; ++i) {
-    const float a = float(i) / float(steps);
-    int x, y;
-    const float behind = probe(point_at(a), x, y);
-    if (std::isnan(behind)) return r;  // left the screen
-    const float depth = g.at(x, y).depth;
-    if (behind > 0 && behind <= thickness * depth) {
-      // Bisection between the last point in front and this one, for the pixel where it crosses.
-      float lo = a_prev, hi = a;
-      for (int k = 0; k < 6; ++k) {
-        const float mid = 0.5f * (lo + hi);
-        int mx, my;
-        const float b = probe(point_at(mid), mx, my);
-        if (!std::isnan(b) && b > 0 && b <= thickness * g.at(mx, my).depth) {
-          hi = mid;
-          x = mx;
-          y = my;
-        } else {
-          lo = mid;
-        }
-      }
-      // The ray must arrive on the side of the surface the camera sees (its lit colour is that
-      // side's); whichever way the mesh's winding points the normal.
-      const GSurface& hs = g.at(x, y);
-      const Vec3 seen = dot(hs.ng, hs.wo) >= 0 ? hs.ng : -hs.ng;
-      if (dot(seen, d) >= 0) return r;
-      r.hit = true;
-      r.x = x;
-      r.y = y;
-      return r;
-    }
-    if (behind <= 0) a_prev = a;
-  }
-  return r;
-}
+// Neighbours a pixel may reuse rays from in the resolve: similar surfaces only, so that rays do
+// not leak across silhouettes (the thresholds of the ReSTIR integrators' defaults).
+constexpr float kResolveDepth = 0.1f, kResolveNormalDeg = 25.0f;
 
 class Ssr final : public Integrator {
  public:
@@ -116,66 +59,184 @@ class Ssr final : public Integrator {
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     const Options& o = ctx_.options;
-    const int w = out.width, h = out.height;
-    std::vector<Rgb> sum(out.size(), Rgb(0));
-    PathOptions direct = o.path;
-    direct.max_depth = 1;  // emission + direct light: the frame before reflections
+    sum_.assign(out.size(), Rgb(0));
     for (int s = 0; s < o.render.spp; ++s) {
-      {
-        StageTimer timer(frame.stages, "primary");
-        build_gbuffer(ctx_, *frame.camera, frame.index, s, g_);
-      }
-      lit_.assign(out.size(), Rgb(0));
-      {
-        StageTimer timer(frame.stages, "direct");
-        parallel_for_pixels(w, h, [&](int x, int y) {
-          const uint32_t p = uint32_t(y * w + x);
-          Pcg32 rng = make_rng(p, uint32_t(frame.index), RngPass::path, o.render.seed, uint32_t(s));
-          lit_[p] = path_radiance(ctx_, direct, camera_ray(ctx_, *frame.camera, x, y, frame.index, s), rng);
-        }, frame.progress);
-      }
-      StageTimer timer(frame.stages, "reflections");
-      parallel_for_pixels(w, h, [&](int x, int y) {
-        const uint32_t p = uint32_t(y * w + x);
-        sum[p] += shade(frame, g_.at(x, y), p, s);
-      });
+      primary(frame, s);
+      direct(frame, s);
+      reflections(frame, s);
+      resolve(frame, s);
     }
-    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum[i] / float(o.render.spp);
+    for (size_t i = 0; i < out.size(); ++i) out.pixels[i] = sum_[i] / float(o.render.spp);
+    if (o.ssr.temporal) temporal(frame, out);
   }
 
  private:
-  // A pixel's final colour: its lit colour, or for smooth enough surfaces emission + reflections.
-  Rgb shade(const FrameInfo& frame, const GSurface& sf, uint32_t p, int s) const {
+  bool reflective(const GSurface& sf) const {
+    return sf.valid && bsdf_roughness(sf.bsdf) <= ctx_.options.ssr.roughness_cutoff;
+  }
+
+  // Primary rays (one batched query per row) and the G-buffer and Hi-Z pyramid built from them.
+  void primary(const FrameInfo& frame, int s) {
+    StageTimer timer(frame.stages, "primary");
+    const int w = frame.camera->width(), h = frame.camera->height();
+    rays_.resize(size_t(w) * size_t(h));
+    hits_.resize(rays_.size());
+    g_.width = w;
+    g_.height = h;
+    g_.pixels.resize(rays_.size());
+    parallel_for(h, [&](int y) {
+      const size_t row = size_t(y) * size_t(w);
+      for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
+      const auto rays = std::span<const Ray>(rays_).subspan(row, size_t(w));
+      ctx_.accel.intersect(rays, std::span(hits_).subspan(row, size_t(w)), true);
+      for (size_t i = row; i < row + size_t(w); ++i)
+        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i]);
+    });
+    hiz_.build(*frame.camera, g_);
+  }
+
+  // Lit colour: emission + direct light, the path tracer at depth 1 continuing the primary hits
+  // (the same random numbers as path_radiance on the same camera ray: the same colour).
+  void direct(const FrameInfo& frame, int s) {
+    StageTimer timer(frame.stages, "direct");
+    const Options& o = ctx_.options;
+    PathOptions depth1 = o.path;
+    depth1.max_depth = 1;
+    lit_.resize(rays_.size());
+    parallel_for_pixels(g_.width, g_.height, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * g_.width + x);
+      Pcg32 rng = make_rng(p, uint32_t(frame.index), RngPass::path, o.render.seed, uint32_t(s));
+      lit_[p] = path_radiance_from_hit(ctx_, depth1, rays_[p], hits_[p].valid() ? &hits_[p] : nullptr, rng);
+    }, frame.progress);
+  }
+
+  // ssr.rays BSDF-sampled rays per reflective pixel, marched through the screen.
+  void reflections(const FrameInfo& frame, int s) {
+    StageTimer timer(frame.stages, "reflections");
     const SsrOptions& so = ctx_.options.ssr;
-    if (!sf.valid || bsdf_roughness(sf.bsdf) > so.roughness_cutoff) return lit_[p];
-    Pcg32 rng = make_rng(p, uint32_t(frame.index), RngPass::misc, ctx_.options.render.seed, uint32_t(s));
-    const Vec3 wo_l = sf.frame.to_local(sf.wo);
-    Rgb reflected(0);
-    for (int i = 0; i < so.rays; ++i) {
-      BsdfSample bs;
-      const float u_lobe = rng.next_float();
-      const Vec2 u = rng.next_2d();
-      if (!bsdf_sample(sf.bsdf, wo_l, u_lobe, u, bs)) continue;
-      const Rgb weight = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
-      const Vec3 d = sf.frame.to_world(bs.wi);
-      const bool transmitted = dot(d, sf.ng) * dot(sf.wo, sf.ng) < 0;
-      MarchResult m;
-      if (!transmitted) {
-        const Ray ray = spawn_ray(sf.p, sf.ng, d, ctx_.accel.ray_epsilon());
-        m = screen_march(*frame.camera, g_, ray.o, d, extent_, so.max_steps, so.thickness);
+    const size_t rays = size_t(so.rays);
+    traced_.assign(g_.pixels.size() * rays, ReflectionRay{});
+    parallel_for_pixels(g_.width, g_.height, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * g_.width + x);
+      const GSurface& sf = g_.pixels[p];
+      if (!reflective(sf)) return;
+      Pcg32 rng = make_rng(p, uint32_t(frame.index), RngPass::misc, ctx_.options.render.seed, uint32_t(s));
+      for (size_t i = 0; i < rays; ++i) traced_[p * rays + i] = trace(*frame.camera, sf, rng);
+    });
+  }
+
+  ReflectionRay trace(const PerspectiveCamera& camera, const GSurface& sf, Pcg32& rng) const {
+    const SsrOptions& so = ctx_.options.ssr;
+    ReflectionRay r;
+    BsdfSample bs;
+    const float u_lobe = rng.next_float();
+    const Vec2 u = rng.next_2d();
+    if (!bsdf_sample(sf.bsdf, sf.frame.to_local(sf.wo), u_lobe, u, bs) || !(bs.pdf > 0)) return r;
+    r.valid = true;
+    r.weight = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
+    r.pdf = bs.is_delta ? 0.0f : bs.pdf;
+    r.dir = sf.frame.to_world(bs.wi);
+    // A transmitted direction sees nothing the screen shows (glass): the fallback.
+    if (dot(r.dir, sf.ng) * dot(sf.wo, sf.ng) >= 0) {
+      const Ray ray = spawn_ray(sf.p, sf.ng, r.dir, ctx_.accel.ray_epsilon());
+      const MarchResult m = so.hi_z ? march_hiz(camera, g_, hiz_, ray.o, r.dir, extent_, so.max_steps, so.thickness)
+                                    : march_linear(camera, g_, hiz_, ray.o, r.dir, extent_, so.max_steps, so.thickness);
+      if (m.hit) {
+        const size_t q = size_t(m.y) * size_t(g_.width) + size_t(m.x);
+        r.hit = true;
+        r.hit_p = g_.pixels[q].p;
+        r.radiance = lit_[q];
+        return r;
       }
-      if (m.hit)
-        reflected += weight * lit_[size_t(m.y) * size_t(g_.width) + size_t(m.x)];
-      else if (so.fallback == SsrFallback::environment)
-        reflected += weight * ctx_.lights.environment_radiance(d);
     }
-    return sf.emitted + reflected / float(so.rays);
+    if (so.fallback == SsrFallback::environment) r.radiance = ctx_.lights.environment_radiance(r.dir);
+    return r;
+  }
+
+  // Each pixel's colour for this sample, added to sum_.
+  void resolve(const FrameInfo& frame, int s) {
+    StageTimer timer(frame.stages, "resolve");
+    parallel_for_pixels(g_.width, g_.height, [&](int x, int y) {
+      const uint32_t p = uint32_t(y * g_.width + x);
+      const GSurface& sf = g_.pixels[p];
+      sum_[p] += reflective(sf) ? sf.emitted + reflected(frame, s, x, y) : lit_[p];
+    });
+  }
+
+  // Reflected radiance at pixel (x, y): the mean of its own rays' f cos/pdf x L, or with the
+  // resolve, Stachowiak's ratio estimator over its own and its neighbours' rays (file comment).
+  Rgb reflected(const FrameInfo& frame, int s, int x, int y) const {
+    const SsrOptions& so = ctx_.options.ssr;
+    const size_t rays = size_t(so.rays), p = size_t(y) * size_t(g_.width) + size_t(x);
+    const GSurface& sf = g_.pixels[p];
+    Rgb own(0), albedo(0);
+    for (size_t i = 0; i < rays; ++i) {
+      const ReflectionRay& r = traced_[p * rays + i];
+      own += r.weight * r.radiance;
+      albedo += r.weight;
+    }
+    own /= float(rays);
+    albedo /= float(rays);
+    if (so.resolve_neighbors == 0 || bsdf_is_delta(sf.bsdf)) return own;
+    const Vec3 wo = sf.frame.to_local(sf.wo);
+    Rgb num(0);
+    float den = 0;
+    auto reuse = [&](const ReflectionRay& r) {  // weight: this pixel's BRDF x cos over r's pdf
+      if (!r.valid || !(r.pdf > 0)) return;
+      const Vec3 d = r.hit ? normalize(r.hit_p - sf.p) : r.dir;
+      const Vec3 wi = sf.frame.to_local(d);
+      const float wgt = luminance(bsdf_eval(sf.bsdf, wo, wi)) * std::fabs(wi.z) / r.pdf;
+      if (!(wgt > 0) || !std::isfinite(wgt)) return;
+      num += r.radiance * wgt;
+      den += wgt;
+    };
+    for (size_t i = 0; i < rays; ++i) reuse(traced_[p * rays + i]);
+    // The neighbourhood shrinks with the lobe (Stachowiak 2015 scales the resolve kernel with the
+    // BRDF's footprint): a near-mirror's neighbours' rays point outside its lobe and only add noise.
+    const float radius = so.resolve_radius * std::min(1.0f, bsdf_roughness(sf.bsdf) / std::max(so.roughness_cutoff, 1e-3f));
+    Pcg32 rng = make_rng(uint32_t(p), uint32_t(frame.index), RngPass::spatial, ctx_.options.render.seed, uint32_t(s));
+    for (int k = 0; k < so.resolve_neighbors && radius >= 0.5f; ++k) {
+      const Vec2 d = sample_uniform_disk_concentric(rng.next_2d()) * radius;
+      const int nx = x + int(std::lround(d.x)), ny = y + int(std::lround(d.y));
+      if ((nx == x && ny == y) || nx < 0 || ny < 0 || nx >= g_.width || ny >= g_.height) continue;
+      const size_t q = size_t(ny) * size_t(g_.width) + size_t(nx);
+      if (!similar_surfaces(sf, g_.pixels[q], kResolveDepth, kResolveNormalDeg)) continue;
+      for (size_t i = 0; i < rays; ++i) reuse(traced_[q * rays + i]);
+    }
+    return den > 0 ? albedo * (num / den) : own;
+  }
+
+  // ssr.temporal: blend the reflective pixels with the previous frame's where the reprojected
+  // surface is the same (depth and normal), then keep this frame as the history.
+  void temporal(const FrameInfo& frame, Image& out) {
+    StageTimer timer(frame.stages, "temporal");
+    const float alpha = ctx_.options.ssr.temporal_alpha;
+    if (frame.previous_camera && history_.size() == out.size()) {
+      parallel_for_pixels(g_.width, g_.height, [&](int x, int y) {
+        const size_t p = size_t(y) * size_t(g_.width) + size_t(x);
+        const GSurface& sf = g_.pixels[p];
+        int px, py;
+        if (!reflective(sf) || !reproject(*frame.previous_camera, sf.p, px, py)) return;
+        const size_t q = size_t(py) * size_t(g_.width) + size_t(px);
+        if (!reflective(previous_g_.pixels[q]) ||
+            !similar_surfaces(sf, previous_g_.pixels[q], kResolveDepth, kResolveNormalDeg))
+          return;
+        out.pixels[p] = history_[q] + (out.pixels[p] - history_[q]) * alpha;
+      });
+    }
+    history_ = out.pixels;
+    previous_g_ = g_;
   }
 
   RenderContext ctx_;
   float extent_ = 1;
-  GBuffer g_;
-  std::vector<Rgb> lit_;
+  // Buffers, allocated once per frame size and reused by every sample and frame.
+  std::vector<Ray> rays_;
+  std::vector<Hit> hits_;
+  GBuffer g_, previous_g_;
+  HiZPyramid hiz_;
+  std::vector<Rgb> lit_, sum_, history_;
+  std::vector<ReflectionRay> traced_;
 };
 
 }  // namespace
