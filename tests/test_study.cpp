@@ -321,6 +321,45 @@ TEST_SUITE("study") {
     CHECK(s[1].points[0].y.mean == doctest::Approx(7.0));
   }
 
+  TEST_CASE("equal-time plots: x a metric, one point per configuration at its means, rows chosen by \"where\"") {
+    std::vector<Row> rows;
+    auto add = [&](const std::string& scene, const std::string& integrator, const std::string& spp, double ms, double err) {
+      Row r;
+      r.scene = scene;
+      r.config = integrator + spp;  // configuration hash: seeds share it
+      r.options = {{"integrator", integrator}, {"render.spp", spp}};
+      r.metrics["ms_median"] = ms;
+      r.metrics["relmse"] = err;
+      rows.push_back(r);
+    };
+    add("a", "pt", "4", 40, 0.25);
+    add("a", "pt", "4", 44, 0.35);
+    add("a", "pt", "1", 10, 1.0);
+    add("a", "ssr", "1", 15, 0.5);
+    add("b", "pt", "1", 99, 9.0);  // another scene: left out by "where"
+    PlotSpec p;
+    p.x = "ms_median";
+    p.x_metric = true;
+    p.y = "relmse";
+    p.series = "integrator";
+    p.where = {{"scene", "a"}};
+    bool numeric = false;
+    auto s = aggregate(p, rows, &numeric);
+    CHECK(numeric);
+    REQUIRE(s.size() == 2);
+    REQUIRE(s[0].points.size() == 2);  // pt at 1 and 4 spp, in order of time
+    CHECK(s[0].points[0].xpos == doctest::Approx(10));
+    CHECK(s[0].points[1].xpos == doctest::Approx(42));
+    CHECK(s[0].points[1].y.mean == doctest::Approx(0.3));
+    CHECK(s[0].points[1].y.n == 2);
+    REQUIRE(s[1].points.size() == 1);
+    CHECK(s[1].points[0].xpos == doctest::Approx(15));
+    // Parsing: a metric x needs no option key; "where" keys are checked like series keys.
+    CHECK(error_of(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"scene": "x"}}])")) == "");
+    CHECK(error_of(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"render.sp": 1}}])")).find("render.sp") !=
+          std::string::npos);
+  }
+
   TEST_CASE("a series key 'a+b' gives one series per pair of values") {
     Row r;
     r.scene = "s";

@@ -38,11 +38,53 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
+namespace {
+bool selected(const PlotSpec& p, const Row& r) {
+  return std::all_of(p.where.begin(), p.where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
+}
+
+// x is a metric: one point per configuration (and scene) of each series, at the means over its
+// seeds, the points of a series in order of x.
+std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<Row>& rows) {
+  std::vector<std::string> series_order;
+  std::map<std::string, std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>> groups;
+  for (const auto& r : rows) {
+    const double x = r.metric(p.x), y = r.metric(p.y);
+    if (!selected(p, r) || !std::isfinite(x) || !std::isfinite(y)) continue;
+    const std::string sv = p.series.empty() ? "" : r.option(p.series);
+    if (!groups.count(sv)) series_order.push_back(sv);
+    auto& g = groups[sv][r.config + "|" + r.scene];
+    g.first.push_back(x);
+    g.second.push_back(y);
+  }
+  std::vector<PlotSeries> out;
+  for (const auto& sv : series_order) {
+    PlotSeries s;
+    s.label = p.series.empty() ? p.y : p.series + " = " + sv;
+    for (const auto& [config, xy] : groups[sv]) {
+      PlotSeries::Point pt;
+      pt.xpos = stat_of(xy.first).mean;
+      pt.x = fmt::format("{:.4g}", pt.xpos);
+      pt.y = stat_of(xy.second);
+      s.points.push_back(pt);
+    }
+    std::sort(s.points.begin(), s.points.end(), [](const auto& a, const auto& b) { return a.xpos < b.xpos; });
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+}  // namespace
+
 std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& rows, bool* numeric_x) {
+  if (p.x_metric) {
+    if (numeric_x) *numeric_x = true;
+    return aggregate_metric_x(p, rows);
+  }
   // Group in first-seen order of series and x.
   std::vector<std::string> series_order, x_order;
   std::map<std::string, std::map<std::string, std::vector<double>>> groups;
   for (const auto& r : rows) {
+    if (!selected(p, r)) continue;
     double y = r.metric(p.y);
     if (!std::isfinite(y)) continue;
     std::string sv = p.series.empty() ? "" : r.option(p.series);
@@ -108,7 +150,7 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
         "set encoding utf8\nset datafile separator \"\\t\"\n"
         "set title {}\nset xlabel {}\nset ylabel {}\n"
         "set grid\nset key outside right top\nset bars small\nset offsets graph 0.04, graph 0.04, graph 0.02, graph 0.02\n",
-        s.name, p.name, gp_quote(p.title), gp_quote(p.x), gp_quote(p.y + " (mean ± standard error)"));
+        s.name, p.name, gp_quote(p.title), gp_quote(p.x_metric ? p.x + " (mean over seeds)" : p.x), gp_quote(p.y + " (mean ± standard error)"));
     if (p.logx) gp += "set logscale x\n";
     if (p.logy) gp += "set logscale y\n";
     if (!numeric) gp += "set xtics rotate by -30\n";

@@ -246,7 +246,7 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
     std::set<std::string> names;
     const auto cols = metric_columns(s);
     for (const auto& p : j["plots"]) {
-      check_keys(p, {"name", "title", "x", "y", "series", "logx", "logy"}, path, "plot");
+      check_keys(p, {"name", "title", "x", "y", "series", "logx", "logy", "where"}, path, "plot");
       PlotSpec ps;
       if (!p.contains("x") || !p.contains("y")) fail(path, "every plot needs \"x\" and \"y\"");
       ps.x = p["x"].get<std::string>();
@@ -263,8 +263,20 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
       ps.title = p.value("title", ps.y + " vs " + ps.x);
       if (std::find(cols.begin(), cols.end(), ps.y) == cols.end())
         fail(path, fmt::format("plot '{}': y '{}' is not a metric column of this study", ps.name, ps.y));
-      for (const std::string* keys : {&ps.x, &ps.series}) {
-        std::stringstream parts(*keys);
+      ps.x_metric = std::find(cols.begin(), cols.end(), ps.x) != cols.end();
+      if (p.contains("where")) {
+        if (!p["where"].is_object()) fail(path, fmt::format("plot '{}': \"where\" must be an object of key: value", ps.name));
+        for (const auto& [k, v] : p["where"].items()) {
+          if (!v.is_string() && !v.is_number() && !v.is_boolean())
+            fail(path, fmt::format("plot '{}': where '{}' must be a string, number or bool", ps.name, k));
+          ps.where.emplace_back(k, v.is_string() ? v.get<std::string>() : v.dump());
+        }
+      }
+      std::vector<std::string> keys{ps.series};
+      if (!ps.x_metric) keys.push_back(ps.x);
+      for (const auto& [k, v] : ps.where) keys.push_back(k);
+      for (const std::string& joined : keys) {
+        std::stringstream parts(joined);
         std::string k;
         while (std::getline(parts, k, '+')) {  // "a+b": one series per pair of values
           if (k == "frame" || k == "scene" || k == "seed") continue;
@@ -272,7 +284,8 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
           OptionPrinter pr;
           visit_options(o, pr);
           if (std::none_of(pr.out.begin(), pr.out.end(), [&](const auto& kv) { return kv.first == k; }))
-            fail(path, fmt::format("plot '{}': '{}' is not an option key, \"frame\", \"scene\" or \"seed\"", ps.name, k));
+            fail(path, fmt::format("plot '{}': '{}' is not an option key, a metric column, \"frame\", \"scene\" or \"seed\"",
+                                   ps.name, k));
         }
       }
       if (!names.insert(ps.name).second) fail(path, fmt::format("two plots named '{}'", ps.name));

@@ -25,10 +25,14 @@ struct Axis {
 struct PlotSpec {
   std::string name;    // file stem under plots/
   std::string title;
-  std::string x;       // option key, "frame", "scene" or "seed"
+  std::string x;       // option key, "frame", "scene" or "seed"; or a metric column (x_metric)
   std::string y;       // metric name (see kMetricColumns)
   std::string series;  // option key or "scene" (one line per value); empty = one line
   bool logx = false, logy = false;
+  // x is a metric (e.g. ms_median: error against time, the equal-time view): one point per
+  // configuration and scene, at the mean of both metrics over its seeds.
+  bool x_metric = false;
+  std::vector<std::pair<std::string, std::string>> where;  // only rows whose option(key) == value
 };
 
 struct ReferenceSpec {
