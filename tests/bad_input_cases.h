@@ -147,6 +147,24 @@ inline std::vector<BadCase> bad_input_cases() {
                kRender, 1, {"s.pbrt:8", "vertex"}});
   v.push_back({"Scale overflow in the CTM", {{"s.pbrt", world_line("Scale 1e30 1 1\nScale 1e30 1 1")}}, kRender, 1,
                {"s.pbrt:9", "Scale"}});
+  // Animation files (issue 11): Attribute "shape"/"light" "string animation" FILE.
+  auto anim = [&](const std::string& name, const std::string& json, std::vector<std::string> expect) {
+    v.push_back({name, {{"a.json", json}, {"s.pbrt", world_line("Attribute \"shape\" \"string animation\" \"a.json\"")}},
+                 kRender, 1, std::move(expect)});
+  };
+  anim("animation: frames not increasing", R"({"keys": [{"frame": 3}, {"frame": 3}]})", {"s.pbrt:8", "a.json", "keys[1].frame"});
+  anim("animation: translate 1e300", R"({"keys": [{"frame": 0, "translate": [1e300, 0, 0]}]})", {"s.pbrt:8", "a.json", "translate"});
+  anim("animation: rotation about a zero axis", R"({"keys": [{"frame": 0, "rotate": [30, 0, 0, 0]}]})", {"a.json", "rotate"});
+  anim("animation: negative intensity", R"({"keys": [{"frame": 0, "intensity": -1}]})", {"a.json", "intensity"});
+  anim("animation: unknown key", R"({"keys": [{"frame": 0, "spin": 1}]})", {"a.json", "spin"});
+  anim("animation: no keys", R"({"keys": []})", {"a.json", "keys"});
+  anim("animation: invalid JSON", R"({"keys": [)", {"a.json", "JSON"});
+  anim("animation: negative frame", R"({"keys": [{"frame": -2}]})", {"a.json", "frame"});
+  v.push_back({"animation file missing", {{"s.pbrt", world_line("Attribute \"shape\" \"string animation\" \"none.json\"")}},
+               kRender, 1, {"s.pbrt:8", "none.json"}});
+  v.push_back({"animation of a material", {{"a.json", R"({"keys": [{"frame": 0}]})"},
+                                           {"s.pbrt", world_line("Attribute \"material\" \"string animation\" \"a.json\"")}},
+               kRender, 1, {"s.pbrt:8", "animation"}});
   v.push_back({"Rotate about a zero axis", {{"s.pbrt", world_line("Rotate 30 0 0 0")}}, kRender, 1, {"s.pbrt:8", "Rotate"}});
   v.push_back({"LookAt degenerate", {{"s.pbrt", header_line("LookAt 0 0 0  0 0 0  0 1 0")}}, kRender, 1, {"s.pbrt:1", "LookAt"}});
   v.push_back({"singular Transform", {{"s.pbrt", world_line("Transform [0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0]")}}, kRender, 1,

@@ -30,6 +30,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
   if (!impl_->device) throw std::runtime_error("cannot create the Embree device");
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+  if (scene_animated(scene)) rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_DYNAMIC);
 
   Bounds3 b;
   for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
@@ -48,6 +49,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
     unsigned* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                   3 * sizeof(unsigned), m.triangle_count()));
     std::copy(m.indices.begin(), m.indices.end(), ib);
+    if (m.animation >= 0) rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);  // rigid motion keeps the topology
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(impl_->scene, g);
     rtcReleaseGeometry(g);
@@ -73,10 +75,41 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the BVH");
+  animated_ = scene_animated(scene);
   if (!b.empty()) {
     float extent = std::max(max_component(max(b.hi, -b.lo)), max_component(b.diagonal()));
     epsilon_ = std::max(1e-5f * extent, 1e-6f);
   }
+}
+
+void Accel::update() {
+  if (!animated_) return;
+  for (uint32_t mi = 0; mi < scene_.meshes.size(); ++mi) {
+    const TriangleMesh& m = scene_.meshes[mi];
+    if (m.animation < 0) continue;
+    RTCGeometry g = rtcGetGeometry(impl_->scene, mi);
+    float* vb = static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0));
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      vb[3 * i + 0] = m.positions[i].x;
+      vb[3 * i + 1] = m.positions[i].y;
+      vb[3 * i + 2] = m.positions[i].z;
+    }
+    rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(g);
+  }
+  if (std::any_of(scene_.spheres.begin(), scene_.spheres.end(), [](const Sphere& s) { return s.animation >= 0; })) {
+    RTCGeometry g = rtcGetGeometry(impl_->scene, sphere_geom());
+    float* vb = static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0));
+    for (size_t i = 0; i < scene_.spheres.size(); ++i) {
+      vb[4 * i + 0] = scene_.spheres[i].center.x;
+      vb[4 * i + 1] = scene_.spheres[i].center.y;
+      vb[4 * i + 2] = scene_.spheres[i].center.z;
+    }
+    rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(g);
+  }
+  rtcCommitScene(impl_->scene);
+  check_device(impl_->device, "updating the BVH");
 }
 
 Accel::~Accel() = default;

@@ -38,6 +38,10 @@ class Accel {
   Accel(const Accel&) = delete;
   Accel& operator=(const Accel&) = delete;
 
+  // After animate_scene() moved the scene this Accel was built from (same meshes and spheres):
+  // re-reads the animated ones and refits their BVHs (Embree's REFIT quality). Not thread-safe.
+  void update();
+
   // Closest hit in (ray.tmin, ray.tmax). Thread-safe.
   bool intersect(const Ray& ray, Hit& hit) const;
   // Any hit in (ray.tmin, ray.tmax). Thread-safe.
@@ -59,6 +63,7 @@ class Accel {
   const Scene& scene_;
   std::unique_ptr<Impl> impl_;
   float epsilon_ = 1e-4f;
+  bool animated_ = false;  // the scene has animated shapes: update() has work
 };
 
 // Ray leaving p (with geometric normal ng) in direction d, offset to the side d points to, so it

@@ -38,6 +38,7 @@ struct GState {
   int material = 0;
   bool reverse = false;
   std::optional<AreaEmission> area;
+  int shape_animation = -1, light_animation = -1;  // Attribute "shape"/"light" "string animation"
 };
 
 struct Pushed {
@@ -227,9 +228,8 @@ class Parser {
       parse_params(tok_);
       warn(d, "Option ignored");
     } else if (n == "Attribute") {
-      expect_string(d);
-      parse_params(tok_);
-      warn(d, "Attribute ignored (parameter defaults are not supported)");
+      std::string target = expect_string(d);
+      attribute(d, target, parse_params(tok_));
     } else if (n == "MakeNamedMaterial") {
       std::string name = expect_string(d);
       ParamList pl = parse_params(tok_);
@@ -404,12 +404,14 @@ class Parser {
   void light(const Token& d, const std::string& type, const ParamList& pl);
   void shape(const Token& d, const std::string& type, const ParamList& pl);
   void instantiate(const Token& d, const Instance& inst);
+  void attribute(const Token& d, const std::string& target, const ParamList& pl);
 
   pbrt::Tokenizer tok_;
   std::string main_path_;
   fs::path main_dir_;
   Scene scene_;
   GState gs_;
+  std::map<std::string, int> animation_ids_;  // animation file -> index in scene_.animations
   int active_ = 3;
   std::vector<int> saved_active_;
   std::vector<Pushed> stack_;
@@ -447,6 +449,7 @@ void Parser::light(const Token& d, const std::string& type, const ParamList& pl)
     l.position = gs_.ctm[0].apply_point(pl.get_point3("from", Vec3(0)));
     if (!within_world(l.position)) d.fail("point light: \"from\" lies beyond the supported world extent after the transform");
     pl.check_unused("LightSource \"point\"");
+    l.animation = gs_.light_animation;
     scene_.point_lights.push_back(l);
   } else if (type == "infinite") {
     if (scene_.environment) d.fail("only one infinite light is supported");
@@ -470,6 +473,7 @@ void Parser::light(const Token& d, const std::string& type, const ParamList& pl)
       e.radiance = L.value_or(Rgb(1)) * sc;
     }
     pl.check_unused("LightSource \"infinite\"");
+    e.animation = gs_.light_animation;
     scene_.environment = std::move(e);
   } else {
     d.fail("unsupported light '" + type + "' (supported: point, infinite, and AreaLightSource \"diffuse\")");
@@ -529,6 +533,7 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
                            sp.radius, kMaxWorldCoordinate));
       sp.material = gs_.material;
       sp.emission = gs_.area;
+      sp.animation = gs_.shape_animation;
       sp.flip_normal = gs_.reverse != (xf.det3() < 0);
       (current_instance_ ? current_instance_->spheres : scene_.spheres).push_back(sp);
     } else if (type == "objmesh" || type == "gltfmesh") {
@@ -563,8 +568,33 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
     if (out[i].indices.empty()) d.fail(type + ": the shape has no triangles");
     out[i].material = gs_.material;
     out[i].emission = gs_.area;
+    out[i].animation = gs_.shape_animation;
     if (out[i].source.empty()) out[i].source = src;
   }
+}
+
+// pbrt-v4's parameter defaults are not supported, except the project's "string animation" for
+// "shape" and "light" (scene/animation.h): what follows in this attribute block moves.
+void Parser::attribute(const Token& d, const std::string& target, const ParamList& pl) {
+  const std::string f = pl.get_string("animation", "");
+  if (!f.empty()) {
+    if (target != "shape" && target != "light") d.fail("Attribute \"" + target + "\": \"string animation\" applies to \"shape\" or \"light\"");
+    need_world(d, true);
+    const std::string path = resolve(f, d, false);
+    auto it = animation_ids_.find(path);
+    if (it == animation_ids_.end()) {
+      if (!fs::exists(path)) d.fail("Attribute: cannot open animation file '" + path + "'");
+      try {
+        scene_.animations.push_back(load_animation(path));
+      } catch (const SceneError& e) {
+        d.fail(std::string("Attribute \"string animation\": ") + e.what());
+      }
+      scene_.input_files.push_back(path);
+      it = animation_ids_.emplace(path, int(scene_.animations.size()) - 1).first;
+    }
+    (target == "shape" ? gs_.shape_animation : gs_.light_animation) = it->second;
+  }
+  for (const std::string& u : pl.unused()) warn(d, "Attribute: parameter \"" + u + "\" ignored (parameter defaults are not supported)");
 }
 
 void Parser::instantiate(const Token& d, const Instance& inst) {
@@ -576,6 +606,7 @@ void Parser::instantiate(const Token& d, const Instance& inst) {
       d.fail(std::string("ObjectInstance: ") + e.what());
     }
     m.source += " (instance at " + *d.file + ":" + std::to_string(d.line) + ")";
+    if (gs_.shape_animation >= 0) m.animation = gs_.shape_animation;  // the instance moves
     scene_.meshes.push_back(std::move(m));
   }
   for (Sphere sp : inst.spheres) {
@@ -584,6 +615,7 @@ void Parser::instantiate(const Token& d, const Instance& inst) {
     sp.center = xf.apply_point(sp.center);
     sp.radius *= s;
     if (xf.det3() < 0) sp.flip_normal = !sp.flip_normal;
+    if (gs_.shape_animation >= 0) sp.animation = gs_.shape_animation;
     scene_.spheres.push_back(sp);
   }
 }

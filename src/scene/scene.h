@@ -9,6 +9,7 @@
 
 #include "core/math.h"
 #include "image/image.h"
+#include "scene/animation.h"
 
 namespace rl {
 
@@ -59,6 +60,7 @@ struct TriangleMesh {
   // Only used without shading normals; always go through triangle_normal().
   bool flip_normal = false;
   std::string source;            // where it came from, for `restir info` and error messages
+  int animation = -1;            // index into Scene::animations (-1: static)
   size_t triangle_count() const { return indices.size() / 3; }
 };
 
@@ -68,11 +70,13 @@ struct Sphere {
   int material = 0;
   std::optional<AreaEmission> emission;
   bool flip_normal = false;      // ReverseOrientation: normals (and emission) point inward
+  int animation = -1;
 };
 
 struct PointLight {
   Vec3 position;
   Rgb intensity{1};              // I (W/sr), scale applied
+  int animation = -1;
 };
 
 // Infinite light: constant radiance, or an HDR image in equirectangular (2:1, as most HDRI sites
@@ -85,6 +89,7 @@ struct EnvironmentLight {
   Mat4 world_from_light;         // orientation of the map
   Mat4 light_from_world;
   std::string filename;
+  int animation = -1;            // rotation (its translation is ignored) and intensity
 };
 
 // A pinhole perspective camera (pbrt "perspective", no lens).
@@ -131,6 +136,9 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<PointLight> point_lights;
   std::optional<EnvironmentLight> environment;
+  // Keyframed motion of the shapes and lights whose `animation` indexes it (animation.h); the
+  // geometry above is the rest pose, animate_scene() gives frame f.
+  std::vector<Animation> animations;
   Camera camera;
   SceneHints hints;
   std::string source_path;
