@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "scene/accel.h"
+#include "scene/animation.h"
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "scene/ply.h"
@@ -351,6 +352,59 @@ TEST_CASE("scenes: teapot-table (three teapots on a glossy table top)") {
     glossy += m.type == Material::Type::conductor && std::sqrt(m.alpha_x * m.alpha_y) <= 0.3f ? 1 : 0;
   CHECK(teapots == 3);
   CHECK(glossy >= 3);  // chrome, gold, the table top
+}
+
+TEST_CASE("scenes: dynamic-room (a light sweeps the ceiling, another switches off and on)") {
+  Scene rest = load("dynamic-room");
+  REQUIRE(rest.animations.size() == 2);
+  std::vector<int> animated;
+  for (size_t i = 0; i < rest.meshes.size(); ++i)
+    if (rest.meshes[i].animation >= 0) animated.push_back(int(i));
+  REQUIRE(animated.size() == 2);
+  for (int i : animated) CHECK(rest.meshes[size_t(i)].emission);
+  const TriangleMesh &sweep0 = rest.meshes[size_t(animated[0])], &switch0 = rest.meshes[size_t(animated[1])];
+  Scene s;
+  // Frame 16: the sweeping light at the right wall; the switch off (frames 8-19).
+  animate_scene(rest, 16, s);
+  const TriangleMesh &sweep = s.meshes[size_t(animated[0])], &sw = s.meshes[size_t(animated[1])];
+  CHECK(sweep.positions[0].x == doctest::Approx(sweep0.positions[0].x + 3.9f));
+  CHECK(sweep.positions[1].x <= 5.56f);  // still inside the room
+  CHECK(sweep.positions[0].y == doctest::Approx(sweep0.positions[0].y));
+  CHECK(sw.emission->radiance.x == 0);
+  animate_scene(rest, 7, s);
+  CHECK(s.meshes[size_t(animated[1])].emission->radiance.x == doctest::Approx(switch0.emission->radiance.x));
+  animate_scene(rest, 20, s);
+  CHECK(s.meshes[size_t(animated[1])].emission->radiance.x == doctest::Approx(switch0.emission->radiance.x));
+  animate_scene(rest, 32, s);  // back where it started
+  CHECK(s.meshes[size_t(animated[0])].positions[0].x == doctest::Approx(sweep0.positions[0].x));
+}
+
+TEST_CASE("scenes: moving-glossy (a chrome teapot slides over a glossy floor)") {
+  Scene rest = load("moving-glossy");
+  REQUIRE(rest.animations.size() == 1);
+  const TriangleMesh* teapot = nullptr;
+  size_t index = 0;
+  for (size_t i = 0; i < rest.meshes.size(); ++i)
+    if (rest.meshes[i].animation >= 0) teapot = &rest.meshes[index = i];
+  REQUIRE(teapot);
+  CHECK(teapot->triangle_count() > 1000);
+  const Material& m = rest.materials[size_t(teapot->material)];
+  CHECK(m.type == Material::Type::conductor);
+  CHECK(std::sqrt(m.alpha_x * m.alpha_y) <= 0.3f);
+  // The teapot stays on the floor (y >= 0) and in front of the wall (z < 3) on every frame, and
+  // has turned and moved to the right by frame 24.
+  Bounds3 b0;
+  for (Vec3 p : teapot->positions) b0.extend(p);
+  Scene s;
+  for (int f = 0; f <= 24; f += 4) {
+    animate_scene(rest, f, s);
+    Bounds3 b;
+    for (Vec3 p : s.meshes[index].positions) b.extend(p);
+    CHECK(b.lo.y >= -1e-4f);
+    CHECK(b.hi.z < 3.0f);
+    // Half a turn about the pivot, then 2 to the right: x -> 2 pivot.x - x + 2.
+    if (f == 24) CHECK(b.center().x == doctest::Approx(2 * rest.animations[0].pivot.x - b0.center().x + 2.0f).epsilon(1e-3));
+  }
 }
 
 TEST_CASE("scenes: stripes (mixed roughness on one surface, one large area light)") {
