@@ -220,4 +220,15 @@ void animate_scene(const Scene& rest, int frame, Scene& out) {
   }
 }
 
+Scene scene_at_frame(const Scene& rest, int frame) {
+  Scene s;
+  animate_scene(rest, frame, s);
+  s.animations.clear();
+  for (auto& m : s.meshes) m.animation = -1;
+  for (auto& sp : s.spheres) sp.animation = -1;
+  for (auto& l : s.point_lights) l.animation = -1;
+  if (s.environment) s.environment->animation = -1;
+  return s;
+}
+
 }  // namespace rl

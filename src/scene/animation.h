@@ -52,4 +52,7 @@ bool scene_animated(const Scene& rest);
 // moved and scaled. Static parts are copied unchanged, so frame f of a static scene equals rest.
 void animate_scene(const Scene& rest, int frame, Scene& out);
 
+// The scene at frame f as a static scene (nothing animated): e.g. for a per-frame reference.
+Scene scene_at_frame(const Scene& rest, int frame);
+
 }  // namespace rl

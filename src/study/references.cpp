@@ -8,6 +8,7 @@
 #include "core/file_lock.h"
 #include "image/image_io.h"
 #include "integrators/render.h"
+#include "scene/animation.h"
 #include "scene/camera.h"
 #include "study/results.h"
 
@@ -23,8 +24,8 @@ Camera camera_of(const Scene& scene, const Options& o) {
 }
 }  // namespace
 
-bool camera_moves(const Scene& scene, const Options& o) {
-  return o.render.frames > 1 && camera_of(scene, o).keys.size() > 1;
+bool sequence_moves(const Scene& scene, const Options& o) {
+  return o.render.frames > 1 && (camera_of(scene, o).keys.size() > 1 || scene_animated(scene));
 }
 
 CameraKey camera_at(const Scene& scene, const Options& o, int frame) {
@@ -58,6 +59,10 @@ ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const 
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) text += fmt::format(" {:.6g}", j.camera.camera_from_world.m[a][b]);
   text += fmt::format(" fov {:.6g}", j.camera.fov_degrees);
+  if (scene_animated(scene)) {  // the scene as it is at that frame
+    j.frame = frame;
+    text += fmt::format(" animation frame {}", frame);
+  }
   j.key = hash_hex(text);
   return j;
 }
@@ -78,7 +83,7 @@ const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
     ++reused_;
     return images_[job.key] = read_image(p);
   }
-  Scene moved = scene;  // render the frame's camera as a static one
+  Scene moved = scene_animated(scene) ? scene_at_frame(scene, job.frame) : scene;  // the frame, static
   moved.camera.keys = {job.camera};
   RenderResult res = render(moved, job.options, {});
   write_exr(p, res.last,

@@ -24,6 +24,7 @@ struct ReferenceJob {
   std::string key;        // content hash = file stem
   Options options;        // what pt renders
   CameraKey camera;       // the frame's camera
+  int frame = 0;          // the frame of an animated scene (scene_at_frame)
 };
 
 class ReferenceCache {
@@ -48,7 +49,7 @@ class ReferenceCache {
 };
 
 // True when the camera moves across the frames of o (camera path or animated scene camera).
-bool camera_moves(const Scene& scene, const Options& o);
+bool sequence_moves(const Scene& scene, const Options& o);
 // The camera of frame f of o (camera path applied).
 CameraKey camera_at(const Scene& scene, const Options& o, int frame);
 

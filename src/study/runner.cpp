@@ -56,7 +56,7 @@ struct Job {
   bool first_seed = false;
   Options options;
   std::string id, config_id;
-  std::vector<ReferenceJob> refs;  // per frame (moving camera) or one (static camera)
+  std::vector<ReferenceJob> refs;  // per frame (moving camera or animated scene) or one (static)
 };
 
 std::string read_text(const std::string& p) {
@@ -283,7 +283,7 @@ int run_study(const StudyArgs& a) {
         j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]) + inputs);
         if (s.needs_reference()) {
           const SceneData& sd = scenes[si];
-          if (s.per_frame() && camera_moves(sd.scene, j.options)) {
+          if (s.per_frame() && sequence_moves(sd.scene, j.options)) {
             for (int f = 0; f < s.frames; ++f)
               j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, f));
           } else {
