@@ -49,7 +49,9 @@ void ScriptRunner::run(const ScriptCommand& c, const std::function<void(const st
     screenshot(a[0]);
   } else if (c.verb == "view") {
     const ViewMode m = a[0] == "error" ? ViewMode::error : a[0] == "split" ? ViewMode::split : ViewMode::radiance;
-    if (m != ViewMode::radiance && !session_.reference()) throw std::runtime_error("view " + a[0] + ": needs --reference FILE.exr");
+    if (m != ViewMode::radiance && !session_.reference())
+      throw std::runtime_error("view " + a[0] + (session_.has_reference() ? ": the --reference image is not the film's size"
+                                                                           : ": needs --reference FILE.exr"));
     view_.mode = m;
   } else if (c.verb == "split") {
     parse_float(a[0], view_.split);

@@ -55,12 +55,9 @@ Session::Session(const ViewArgs& a)
       options_(viewer_options(a, scene_)),
       camera_(initial_camera(scene_).keys.front(), scene_.bounds()) {
   set_scale(a.scale);
-  if (!a.reference.empty()) {
-    reference_ = read_image(a.reference);
-    if (reference_->width != options_.film.width || reference_->height != options_.film.height)
-      throw std::runtime_error(fmt::format("--reference '{}': the image is {}x{} but the film is {}x{}", a.reference,
-                                           reference_->width, reference_->height, options_.film.width, options_.film.height));
-  }
+  // Its size is checked against the render's when it is used: the film size is an option that
+  // may change during the session.
+  if (!a.reference.empty()) reference_ = read_image(a.reference);
   pending_ = effective_options();
   pending_camera_ = camera_.key();
   pending_path_key_ = camera_.path_key();
@@ -123,12 +120,15 @@ void Session::set_scale(float s) {
 
 const Image* Session::reference() const {
   if (!reference_) return nullptr;
-  if (scale_ == 1) return &*reference_;
-  // The reference at the render's size: box-filtered over the factor's pixel blocks, which is what
-  // a render at that size converges to up to the pixel filter's footprint.
-  if (!scaled_reference_) scaled_reference_ = downsample(*reference_, int(std::lround(1 / scale_)));
   const Options o = effective_options();
-  return scaled_reference_->width == o.film.width && scaled_reference_->height == o.film.height ? &*scaled_reference_ : nullptr;
+  const Image* ref = &*reference_;
+  if (scale_ != 1) {
+    // The reference at the render's size: box-filtered over the factor's pixel blocks, which is
+    // what a render at that size converges to, up to the pixel filter's footprint.
+    if (!scaled_reference_) scaled_reference_ = downsample(*reference_, int(std::lround(1 / scale_)));
+    ref = &*scaled_reference_;
+  }
+  return ref->width == o.film.width && ref->height == o.film.height ? ref : nullptr;
 }
 
 void Session::set_paused(bool p) {

@@ -99,8 +99,10 @@ class Session {
   std::string error() const;  // the worker's error (it stops rendering); empty when fine
   void clear_error();
 
-  // The --reference image at the render's size (downsampled at a render scale < 1); null without one.
+  // The --reference image at the render's size (downsampled at a render scale < 1); null without
+  // one or when its size is not the film's.
   const Image* reference() const;
+  bool has_reference() const { return reference_.has_value(); }
   // Writes BASE.exr (hdr), BASE.png (ldr), BASE.json (sidecar: options, camera, view, metrics).
   void screenshot(const std::string& base, const Image& hdr, const Image& ldr, const FrameReadout& r,
                   const std::string& view_json) const;

@@ -89,7 +89,9 @@ void readouts(Gui& g) {
   ImGui::Text("%s  %dx%d (scale %g)", o.integrator.c_str(), r.width, r.height, g.session.scale());
   ImGui::Text("%.1f ms/frame  %.2f fps  (last %.1f ms)", g.history.mean_ms(), g.history.fps(), r.ms);
   ImGui::Text("frames accumulated %d  (%d spp)  frame %d", r.accumulated, r.accumulated * o.render.spp, r.frame);
-  if (g.session.reference()) {
+  if (g.session.has_reference() && !g.session.reference()) {
+    ImGui::TextUnformatted("reference: not the film's size (no metrics)");
+  } else if (g.session.reference()) {
     ImGui::Text("relMSE %s   FLIP %s", g.rel_mse >= 0 ? fmt::format("{:.5f}", g.rel_mse).c_str() : "-",
                 g.flip >= 0 ? fmt::format("{:.4f}", g.flip).c_str() : "-");
   }
