@@ -14,8 +14,8 @@ scene="$root/scenes/cornell-box.pbrt"
 work="$(mktemp -d /tmp/restir-viewer-test.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 
-if ! command -v xvfb-run >/dev/null; then
-  echo "skipped: xvfb-run is not installed (Debian: xvfb)" >&2
+if ! command -v xvfb-run >/dev/null || ! command -v xauth >/dev/null; then
+  echo "skipped: xvfb-run or xauth is not installed (Debian: xvfb, xauth)" >&2
   exit 77
 fi
 if "$restir" view "$scene" --script /dev/null 2>&1 | grep -q "this build has no viewer"; then

@@ -96,7 +96,12 @@ void readouts(Gui& g) {
                 g.flip >= 0 ? fmt::format("{:.4f}", g.flip).c_str() : "-");
   }
   const std::vector<float> v = g.history.values();
-  if (!v.empty()) ImGui::PlotLines("##ms", v.data(), int(v.size()), 0, "ms per frame", 0.0f, FLT_MAX, ImVec2(-1, 60));
+  if (!v.empty()) {
+    const float top = *std::max_element(v.begin(), v.end()) * 1.1f;
+    const std::string label = fmt::format("ms per frame, last {} (0 - {:.0f})", v.size(), top);
+    ImGui::PlotLines("##ms", v.data(), int(v.size()), 0, label.c_str(), 0.0f, top,
+                     ImVec2(ImGui::GetContentRegionAvail().x, 60));
+  }
   if (ImGui::TreeNode("stages")) {
     for (const auto& [name, ms] : r.stages.ms) ImGui::Text("%-20s %8.2f ms", name.c_str(), ms);
     ImGui::TreePop();
