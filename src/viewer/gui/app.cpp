@@ -36,21 +36,6 @@ bool same(const OutputOptions& a, const OutputOptions& b) {
   return a.tonemap == b.tonemap && a.exposure == b.exposure && a.white_point == b.white_point && a.srgb == b.srgb;
 }
 
-void upload(Gui& g) {
-  std::vector<uint8_t> bytes(g.ldr.size() * 3);
-  for (size_t i = 0; i < g.ldr.size(); ++i)
-    for (int c = 0; c < 3; ++c) bytes[i * 3 + size_t(c)] = uint8_t(std::lround(std::clamp(g.ldr.pixels[i][c], 0.0f, 1.0f) * 255));
-  glBindTexture(GL_TEXTURE_2D, g.texture);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  if (g.texture_w != g.ldr.width || g.texture_h != g.ldr.height) {
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, g.ldr.width, g.ldr.height, 0, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
-    g.texture_w = g.ldr.width;
-    g.texture_h = g.ldr.height;
-  } else {
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g.ldr.width, g.ldr.height, GL_RGB, GL_UNSIGNED_BYTE, bytes.data());
-  }
-}
-
 // relMSE on every frame (cheap); FLIP (a few filters over the image) at most once a second.
 void update_metrics(Gui& g, bool force_flip) {
   const Image* ref = g.session.reference();
@@ -78,8 +63,10 @@ void refresh_display(Gui& g) {
   const OutputOptions& out = g.session.options().output;
   const bool view_changed = last_view.mode != g.view.mode || last_view.split != g.view.split ||
                             last_view.accumulate != g.view.accumulate || !same(last_output, out) || last_scale != g.session.scale();
+  const double t0 = now_s();
   const bool fresh = g.session.take_frame(g.view.accumulate, view_changed, g.hdr, g.readout);
   if (!fresh || g.hdr.empty()) return;
+  const double t1 = now_s();
   if (g.readout.serial != g.last_serial) {
     g.history.add(g.readout.ms);
     g.last_serial = g.readout.serial;
@@ -90,8 +77,16 @@ void refresh_display(Gui& g) {
   last_view = g.view;
   last_output = out;
   last_scale = g.session.scale();
-  g.ldr = compose_view(g.view.mode, g.hdr, g.session.reference(), out, g.view.split);
-  upload(g);
+  // The radiance view is tone mapped by the GPU (display_gl.h); the error map and the split view,
+  // and every view without the shader, on the CPU.
+  const bool gpu = g.display.gpu() && (g.view.mode == ViewMode::radiance || !g.session.reference());
+  if (!gpu) g.ldr = compose_view(g.view.mode, g.hdr, g.session.reference(), out, g.view.split);
+  const double t2 = now_s();
+  if (gpu) g.display.show_hdr(g.hdr, out);
+  else g.display.show_ldr(g.ldr);
+  g.cost.take_ms += (t1 - t0) * 1000;
+  g.cost.compose_ms += (t2 - t1) * 1000;
+  g.cost.upload_ms += (now_s() - t2) * 1000;
 }
 
 // Mouse: left drag turns (orbit / look), right drag pans, wheel dollies. Keys: WASD, Q/E down/up,
@@ -129,13 +124,13 @@ void camera_input(Gui& g, double dt) {
 
 // The frame image, fitted into the window left of the panel, aspect kept.
 void draw_image(Gui& g) {
-  if (g.texture_w == 0) return;
+  if (g.display.width() == 0) return;
   const ImVec2 size = ImGui::GetIO().DisplaySize;
   const float aw = std::max(1.0f, size.x - kPanelWidth), ah = size.y;
-  const float s = std::min(aw / float(g.texture_w), ah / float(g.texture_h));
-  const float w = float(g.texture_w) * s, h = float(g.texture_h) * s;
+  const float s = std::min(aw / float(g.display.width()), ah / float(g.display.height()));
+  const float w = float(g.display.width()) * s, h = float(g.display.height()) * s;
   const ImVec2 p0((aw - w) * 0.5f, (ah - h) * 0.5f);
-  ImGui::GetBackgroundDrawList()->AddImage(ImTextureID(intptr_t(g.texture)), p0, ImVec2(p0.x + w, p0.y + h));
+  ImGui::GetBackgroundDrawList()->AddImage(ImTextureID(intptr_t(g.display.texture())), p0, ImVec2(p0.x + w, p0.y + h));
   if (g.view.mode == ViewMode::split && g.session.reference()) {
     const float x = p0.x + w * g.view.split;
     ImGui::GetBackgroundDrawList()->AddLine(ImVec2(x, p0.y), ImVec2(x, p0.y + h), IM_COL32(255, 255, 255, 200), 1.5f);
@@ -157,6 +152,7 @@ void capture_window(Gui& g, const std::string& path) {
 }
 
 void draw_frame(Gui& g, double dt, bool interactive) {
+  const double t0 = now_s();
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
@@ -175,6 +171,8 @@ void draw_frame(Gui& g, double dt, bool interactive) {
     g.capture.clear();
   }
   glfwSwapBuffers(g.window);
+  g.cost.draw_ms += (now_s() - t0) * 1000;
+  ++g.cost.draws;
 }
 
 // The window, its GL context and ImGui, released in reverse order.
@@ -215,13 +213,24 @@ struct Window {
 void Gui::save_screenshot(const std::string& base) {
   session.take_frame(view.accumulate, true, hdr, readout);
   if (hdr.empty()) throw std::runtime_error("screenshot: no frame rendered yet");
-  ldr = compose_view(view.mode, hdr, session.reference(), session.options().output, view.split);
-  upload(*this);
+  const OutputOptions& out = session.options().output;
+  ldr = compose_view(view.mode, hdr, session.reference(), out, view.split);
+  // The window shows this very frame; on the GPU path, check the shader against tonemap_pixel.
+  const bool gpu = display.gpu() && (view.mode == ViewMode::radiance || !session.reference());
+  int display_diff = 0;
+  if (gpu) {
+    display.show_hdr(hdr, out);
+    display_diff = display.max_difference(ldr);
+  } else {
+    display.show_ldr(ldr);
+  }
   update_metrics(*this, true);
   const std::string view_json = fmt::format(
-      "{{\"view\": \"{}\", \"split\": {}, \"accumulate\": {}, \"scale\": {}, \"rel_mse\": {}, \"flip\": {}}}",
+      "{{\"view\": \"{}\", \"split\": {}, \"accumulate\": {}, \"scale\": {}, \"rel_mse\": {}, \"flip\": {}, "
+      "\"display\": \"{}\", \"display_max_difference\": {}}}",
       view_name(view.mode), view.split, view.accumulate ? "true" : "false", session.scale(),
-      rel_mse >= 0 ? fmt::format("{:.9g}", rel_mse) : "null", flip >= 0 ? fmt::format("{:.9g}", flip) : "null");
+      rel_mse >= 0 ? fmt::format("{:.9g}", rel_mse) : "null", flip >= 0 ? fmt::format("{:.9g}", flip) : "null",
+      gpu ? "gpu" : "cpu", display_diff);
   std::string stem = base;
   for (const char* ext : {".exr", ".png"})
     if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ext) == 0) stem.resize(stem.size() - 4);
@@ -242,6 +251,15 @@ void window_size(const ViewArgs& a, const Options& o, int& w, int& h) {
   const double s = std::min({1.0, 1280.0 / o.film.width, 800.0 / o.film.height});
   w = int(o.film.width * s) + int(kPanelWidth);
   h = std::max(720, int(o.film.height * s));
+}
+
+// One turn of the interactive loop. It sleeps until input or a new frame (the worker posts an
+// empty event), at most 0.25 s: an idle window costs nothing, and the loop draws once per
+// rendered frame (plus input) rather than spinning beside the render threads.
+void ui_iteration(Gui& g, double dt, bool interactive) {
+  glfwWaitEventsTimeout(0.25);
+  refresh_display(g);
+  draw_frame(g, dt, interactive);
 }
 
 int run_script(Gui& g, Script script) {
@@ -270,12 +288,8 @@ int run_interactive(Gui& g) {
   g.session.start([] { glfwPostEmptyEvent(); });
   double last = now_s();
   while (!glfwWindowShouldClose(g.window)) {
-    // Sleep until input or a new frame (the worker posts an empty event): an idle window costs
-    // nothing, and the loop draws once per rendered frame rather than spinning beside the render.
-    glfwWaitEventsTimeout(0.25);
-    refresh_display(g);
     const double t = now_s();
-    draw_frame(g, t - last, true);
+    ui_iteration(g, t - last, true);
     last = t;
   }
   g.session.stop();
@@ -313,16 +327,19 @@ int run_bench(Gui& g, int n) {
     g.session.render_frames(n + 1);
     double t0 = -1;
     long long first = -1;
+    const UiCost cost0 = g.cost;
     while (!(first >= 0 && g.last_serial >= first + n)) {
-      glfwWaitEventsTimeout(0.05);
-      refresh_display(g);
-      draw_frame(g, 0, false);
+      ui_iteration(g, 0, false);
       if (first < 0 && g.last_serial > before) first = g.last_serial, t0 = now_s();
       if (!g.session.error().empty()) throw std::runtime_error("bench: " + g.session.error());
     }
     const double ms = (now_s() - t0) * 1000 / n;
     viewer_total += ms;
-    std::fprintf(stderr, "bench round %d: viewer %.2f ms/frame\n", round, ms);
+    const UiCost& c = g.cost;
+    std::fprintf(stderr, "bench round %d: viewer %.2f ms/frame; UI thread per frame: take %.2f, display transform %.2f, "
+                 "upload %.2f, draw %.2f ms (%.2f draws per frame)\n", round, ms, (c.take_ms - cost0.take_ms) / n,
+                 (c.compose_ms - cost0.compose_ms) / n, (c.upload_ms - cost0.upload_ms) / n, (c.draw_ms - cost0.draw_ms) / n,
+                 double(c.draws - cost0.draws) / n);
   }
   g.session.stop();
   const double bare = bare_total / 2, viewer = viewer_total / 2;
@@ -344,15 +361,7 @@ int run_view(const ViewArgs& a) {
   Window window(w, h, true);
   Gui g(session);
   g.window = window.w;
-  glGenTextures(1, &g.texture);
-  glBindTexture(GL_TEXTURE_2D, g.texture);
-  // Nearest: at a render scale below 1 the pixels stay visible as what was rendered.
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  struct TextureGuard {
-    unsigned& t;
-    ~TextureGuard() { glDeleteTextures(1, &t); }
-  } texture_guard{g.texture};
+  g.display.init();
   if (a.bench > 0) return run_bench(g, a.bench);
   if (script) {
     session.render_frames(0);  // frames only when the script asks

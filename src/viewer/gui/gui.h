@@ -4,27 +4,34 @@
 #include <string>
 
 #include "viewer/display.h"
+#include "viewer/gui/display_gl.h"
 #include "viewer/session.h"
 
 struct GLFWwindow;
 
 namespace rl::viewer {
 
+// Where the UI thread's time goes (ms, summed), printed by the bench.
+struct UiCost {
+  double take_ms = 0, compose_ms = 0, upload_ms = 0, draw_ms = 0;
+  long long draws = 0;
+};
+
 struct Gui {
   explicit Gui(Session& s) : session(s) {}
   Session& session;
   GLFWwindow* window = nullptr;
-  unsigned texture = 0;
-  int texture_w = 0, texture_h = 0;
+  GlDisplay display;  // the texture the window shows
 
   ViewState view;
-  Image hdr, ldr;          // the shown frame (mean or raw) and its display image
+  Image hdr, ldr;          // the shown frame (mean or raw) and its display image (CPU views)
   FrameReadout readout;
   FrameHistory history{300};
   long long last_serial = 0;
   double rel_mse = -1, flip = -1;  // against the reference; < 0: not computed
   double last_flip_time = -1e9;
   bool paused = false;
+  UiCost cost;
   ViewState shown_view;      // what the texture shows, to tell when to redraw it
   OutputOptions shown_output;
   float shown_scale = 0;
