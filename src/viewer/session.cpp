@@ -318,6 +318,8 @@ void Session::worker() {
       if (play_ && play_index_ < play_frames_) {
         camera = play_->at_frame(play_index_, play_frames_);
         moved = play_index_++ > 0;
+      } else if (play_) {
+        camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
       }
     }
     try {

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/output_guard.h"
@@ -175,12 +176,20 @@ void draw_frame(Gui& g, double dt, bool interactive) {
   ++g.cost.draws;
 }
 
+std::string glfw_error = "unknown reason";
+bool glfw_open = false;
+
 // The window, its GL context and ImGui, released in reverse order.
 struct Window {
   GLFWwindow* w = nullptr;
   Window(int width, int height, bool visible) {
-    glfwSetErrorCallback([](int, const char* msg) { std::fprintf(stderr, "warning: GLFW: %s\n", msg); });
-    if (!glfwInit()) throw std::runtime_error("view: cannot open a window (no display? set DISPLAY or run under xvfb-run)");
+    // Until the window is open, GLFW's reason goes into the one error line; after, it is a warning.
+    glfwSetErrorCallback([](int, const char* msg) {
+      if (glfw_open) std::fprintf(stderr, "warning: GLFW: %s\n", msg);
+      else glfw_error = msg;
+    });
+    if (!glfwInit())
+      throw std::runtime_error("view: cannot open a window: " + glfw_error + " (set DISPLAY, or run under xvfb-run)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -188,8 +197,9 @@ struct Window {
     w = glfwCreateWindow(width, height, "restir view", nullptr, nullptr);
     if (!w) {
       glfwTerminate();
-      throw std::runtime_error("view: cannot create an OpenGL 3.3 window");
+      throw std::runtime_error("view: cannot create an OpenGL 3.3 window: " + glfw_error);
     }
+    glfw_open = true;
     glfwMakeContextCurrent(w);
     glfwSwapInterval(1);
     IMGUI_CHECKVERSION();
@@ -200,6 +210,7 @@ struct Window {
     ImGui_ImplOpenGL3_Init("#version 330");
   }
   ~Window() {
+    glfw_open = false;
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();

@@ -102,7 +102,7 @@ void readouts(Gui& g) {
     ImGui::PlotLines("##ms", v.data(), int(v.size()), 0, label.c_str(), 0.0f, top,
                      ImVec2(ImGui::GetContentRegionAvail().x, 60));
   }
-  if (ImGui::TreeNode("stages")) {
+  if (ImGui::TreeNodeEx("stages", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (const auto& [name, ms] : r.stages.ms) ImGui::Text("%-20s %8.2f ms", name.c_str(), ms);
     ImGui::TreePop();
   }
