@@ -2,7 +2,7 @@
 # Issue 10: what the viewer loop costs over the bare render. For pt and restir-di on the Cornell
 # box at 640x360 (1 spp per frame, the viewer's default), `restir view --bench N` renders N frames
 # bare (FrameRenderer and the running mean, as `restir render`) and N through the viewer (worker
-# thread, display transform, texture upload, ImGui), twice alternating, in one run, and prints
+# thread, display transform, texture upload, ImGui), alternating three times, in one run, and prints
 # ms/frame of both and their ratio (goal: the viewer adds < 5%). Runs under xvfb-run (Mesa's
 # software OpenGL) when there is no $DISPLAY.
 #   bench/bench_viewer.sh [RESTIR_BINARY] [FRAMES]

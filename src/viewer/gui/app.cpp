@@ -5,6 +5,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <GLFW/glfw3.h>
 #include <fmt/format.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <optional>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -56,8 +58,9 @@ void update_metrics(Gui& g, bool force_flip) {
   }
 }
 
-// Takes a new frame (or re-reads the shown one when the view changed) and redraws the texture.
-void refresh_display(Gui& g) {
+// Takes a new frame (or re-reads the shown one when the view changed) and redraws the texture;
+// false when nothing changed.
+bool refresh_display(Gui& g) {
   ViewState& last_view = g.shown_view;
   OutputOptions& last_output = g.shown_output;
   float& last_scale = g.shown_scale;
@@ -66,7 +69,7 @@ void refresh_display(Gui& g) {
                             last_view.accumulate != g.view.accumulate || !same(last_output, out) || last_scale != g.session.scale();
   const double t0 = now_s();
   const bool fresh = g.session.take_frame(g.view.accumulate, view_changed, g.hdr, g.readout);
-  if (!fresh || g.hdr.empty()) return;
+  if (!fresh || g.hdr.empty()) return false;
   const double t1 = now_s();
   if (g.readout.serial != g.last_serial) {
     g.history.add(g.readout.ms);
@@ -88,10 +91,11 @@ void refresh_display(Gui& g) {
   g.cost.take_ms += (t1 - t0) * 1000;
   g.cost.compose_ms += (t2 - t1) * 1000;
   g.cost.upload_ms += (now_s() - t2) * 1000;
+  return true;
 }
 
 // Mouse: left drag turns (orbit / look), right drag pans, wheel dollies. Keys: WASD, Q/E down/up,
-// Shift faster, R reset, Space pause.
+// Shift faster, R reset, Space pause, F12 screenshot, Ctrl+Q quit.
 void camera_input(Gui& g, double dt) {
   ImGuiIO& io = ImGui::GetIO();
   CameraController& cam = g.session.camera();
@@ -113,12 +117,21 @@ void camera_input(Gui& g, double dt) {
     if (down(GLFW_KEY_A)) m.x -= speed;
     if (down(GLFW_KEY_E)) m.y += speed;
     if (down(GLFW_KEY_Q)) m.y -= speed;
-    if (m.x != 0 || m.y != 0 || m.z != 0) cam.move(m), moved = true;
+    if ((m.x != 0 || m.y != 0 || m.z != 0) && !io.KeyCtrl) cam.move(m), moved = true;
     if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space), false) && !io.WantTextInput) {
       g.paused = !g.paused;
       g.session.set_paused(g.paused);
     }
     if (glfwGetKey(g.window, GLFW_KEY_R) == GLFW_PRESS && !io.WantTextInput) cam.reset(), moved = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) {
+      try {
+        g.save_screenshot(g.screenshot_path);
+        g.say(std::string("saved ") + g.screenshot_path + ".exr/.png/.json");
+      } catch (const std::exception& e) {
+        g.say(e.what(), true);
+      }
+    }
+    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q, false)) glfwSetWindowShouldClose(g.window, GLFW_TRUE);
   }
   if (moved) g.session.camera_moved();
 }
@@ -178,6 +191,7 @@ void draw_frame(Gui& g, double dt, bool interactive) {
 
 std::string glfw_error = "unknown reason";
 bool glfw_open = false;
+bool input_events = false;  // set by the window's input callbacks, cleared by ui_iteration
 
 // The window, its GL context and ImGui, released in reverse order.
 struct Window {
@@ -206,6 +220,14 @@ struct Window {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
     ImGui::StyleColorsDark();
+    // Installed first: ImGui's backend chains to them. They only note that input arrived.
+    glfwSetCursorPosCallback(w, [](GLFWwindow*, double, double) { input_events = true; });
+    glfwSetMouseButtonCallback(w, [](GLFWwindow*, int, int, int) { input_events = true; });
+    glfwSetScrollCallback(w, [](GLFWwindow*, double, double) { input_events = true; });
+    glfwSetKeyCallback(w, [](GLFWwindow*, int, int, int, int) { input_events = true; });
+    glfwSetCharCallback(w, [](GLFWwindow*, unsigned) { input_events = true; });
+    glfwSetWindowSizeCallback(w, [](GLFWwindow*, int, int) { input_events = true; });
+    glfwSetWindowRefreshCallback(w, [](GLFWwindow*) { input_events = true; });
     ImGui_ImplGlfw_InitForOpenGL(w, true);
     ImGui_ImplOpenGL3_Init("#version 330");
   }
@@ -264,13 +286,27 @@ void window_size(const ViewArgs& a, const Options& o, int& w, int& h) {
   h = std::max(720, int(o.film.height * s));
 }
 
+// True while the user holds a control that acts on every drawn frame (a mouse button, a camera key).
+bool controls_held(GLFWwindow* w) {
+  for (int b : {GLFW_MOUSE_BUTTON_LEFT, GLFW_MOUSE_BUTTON_RIGHT, GLFW_MOUSE_BUTTON_MIDDLE})
+    if (glfwGetMouseButton(w, b) == GLFW_PRESS) return true;
+  for (int k : {GLFW_KEY_W, GLFW_KEY_A, GLFW_KEY_S, GLFW_KEY_D, GLFW_KEY_Q, GLFW_KEY_E})
+    if (glfwGetKey(w, k) == GLFW_PRESS) return true;
+  return false;
+}
+
 // One turn of the interactive loop. It sleeps until input or a new frame (the worker posts an
-// empty event), at most 0.25 s: an idle window costs nothing, and the loop draws once per
-// rendered frame (plus input) rather than spinning beside the render threads.
+// empty event) and draws only then, plus a few frames after input (ImGui shows the effect of a
+// click a frame later) and once a second: on a CPU-bound renderer every drawn frame is taken
+// from the render threads (with software OpenGL a redraw of the window costs ~20 ms of CPU).
 void ui_iteration(Gui& g, double dt, bool interactive) {
-  glfwWaitEventsTimeout(0.25);
-  refresh_display(g);
+  glfwWaitEventsTimeout(g.settle > 0 ? 1.0 / 60 : 1.0);
+  const bool input = std::exchange(input_events, false) || controls_held(g.window);
+  const bool fresh = refresh_display(g);
+  if (!(input || fresh || g.settle > 0 || now_s() - g.last_draw > 1.0)) return;
   draw_frame(g, dt, interactive);
+  g.last_draw = now_s();
+  g.settle = input ? 3 : std::max(0, g.settle - 1);
 }
 
 int run_script(Gui& g, Script script) {
@@ -307,57 +343,81 @@ int run_interactive(Gui& g) {
   return 0;
 }
 
-// --bench N: the same N frames rendered bare (FrameRenderer and the running mean, as `restir
-// render` does) and through the viewer loop (worker thread, display transform, texture upload,
-// ImGui drawing), alternating twice; prints both and their ratio.
+// Wall and CPU time (this process: render threads, UI thread, the OpenGL driver's threads) per frame.
+struct BenchTime {
+  double wall_ms = 0, cpu_ms = 0;
+};
+
+double cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + double(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
+}
+
+// N frames as `restir render` renders them: FrameRenderer and the running mean, after a warm-up
+// frame (first-touch allocations).
+BenchTime bench_bare(const Scene& scene, const Options& o, const CameraKey& key, int n) {
+  FrameRenderer r(scene, o);
+  Image img, mean;
+  r.render_frame(key, o.render.frames, img, nullptr);
+  mean = img;
+  const double t0 = now_s(), c0 = cpu_s();
+  for (int f = 0; f < n; ++f) {
+    StageTimes st;
+    r.render_frame(key, o.render.frames, img, &st);
+    accumulate_mean(mean, img, f + 2);
+  }
+  return {(now_s() - t0) * 1000 / n, (cpu_s() - c0) * 1000 / n};
+}
+
+// N frames through the interactive loop, timed from the first frame shown to the n-th after it
+// (the session's first frame builds the BVH, as the bare loop's untimed warm-up does).
+BenchTime bench_viewer(Gui& g, int n, int round) {
+  const long long before = g.last_serial;
+  g.session.render_frames(n + 1);
+  double t0 = -1, c0 = 0;
+  long long first = -1;
+  UiCost cost0;
+  while (!(first >= 0 && g.last_serial >= first + n)) {
+    ui_iteration(g, 0, false);
+    if (first < 0 && g.last_serial > before) first = g.last_serial, t0 = now_s(), c0 = cpu_s(), cost0 = g.cost;
+    if (!g.session.error().empty()) throw std::runtime_error("bench: " + g.session.error());
+  }
+  const BenchTime t{(now_s() - t0) * 1000 / n, (cpu_s() - c0) * 1000 / n};
+  const UiCost& c = g.cost;
+  std::fprintf(stderr, "bench round %d: viewer %.2f ms/frame (CPU %.2f); UI thread per frame: take %.2f, display transform "
+               "%.2f, upload %.2f, draw %.2f ms, %.2f draws\n", round, t.wall_ms, t.cpu_ms, (c.take_ms - cost0.take_ms) / n,
+               (c.compose_ms - cost0.compose_ms) / n, (c.upload_ms - cost0.upload_ms) / n, (c.draw_ms - cost0.draw_ms) / n,
+               double(c.draws - cost0.draws) / n);
+  return t;
+}
+
+// --bench N: the same N frames rendered bare and through the viewer loop (worker thread, display
+// transform, texture upload, ImGui drawing), alternating kBenchRounds times so that a change in
+// the machine's load (it is shared) falls on both alike. Prints wall and CPU time per frame and
+// their ratios: the CPU ratio is the work the viewer adds, whatever else the machine runs.
 int run_bench(Gui& g, int n) {
   const Options o = g.session.effective_options();
   const CameraKey key = g.session.camera().key();
   g.session.render_frames(0);
   g.session.start([] { glfwPostEmptyEvent(); });
-  double bare_total = 0, viewer_total = 0;
-  for (int round = 0; round < 2; ++round) {
-    {
-      FrameRenderer r(g.session.scene(), o);
-      Image img, mean;
-      r.render_frame(key, o.render.frames, img, nullptr);  // warm-up: first-touch allocations
-      mean = img;
-      const double t0 = now_s();
-      for (int f = 0; f < n; ++f) {
-        StageTimes st;
-        r.render_frame(key, o.render.frames, img, &st);
-        accumulate_mean(mean, img, f + 2);
-      }
-      const double ms = (now_s() - t0) * 1000 / n;
-      bare_total += ms;
-      std::fprintf(stderr, "bench round %d: bare   %.2f ms/frame\n", round, ms);
-    }
-    // Timed from the first frame shown to the n-th after it: the worker's first frame of the
-    // session builds the BVH, which the bare loop's warm-up frame excludes too.
-    const long long before = g.last_serial;
-    g.session.render_frames(n + 1);
-    double t0 = -1;
-    long long first = -1;
-    const UiCost cost0 = g.cost;
-    while (!(first >= 0 && g.last_serial >= first + n)) {
-      ui_iteration(g, 0, false);
-      if (first < 0 && g.last_serial > before) first = g.last_serial, t0 = now_s();
-      if (!g.session.error().empty()) throw std::runtime_error("bench: " + g.session.error());
-    }
-    const double ms = (now_s() - t0) * 1000 / n;
-    viewer_total += ms;
-    const UiCost& c = g.cost;
-    std::fprintf(stderr, "bench round %d: viewer %.2f ms/frame; UI thread per frame: take %.2f, display transform %.2f, "
-                 "upload %.2f, draw %.2f ms (%.2f draws per frame)\n", round, ms, (c.take_ms - cost0.take_ms) / n,
-                 (c.compose_ms - cost0.compose_ms) / n, (c.upload_ms - cost0.upload_ms) / n, (c.draw_ms - cost0.draw_ms) / n,
-                 double(c.draws - cost0.draws) / n);
+  constexpr int kBenchRounds = 3;
+  BenchTime bare, viewer;
+  for (int round = 0; round < kBenchRounds; ++round) {
+    const BenchTime b = bench_bare(g.session.scene(), o, key, n);
+    std::fprintf(stderr, "bench round %d: bare   %.2f ms/frame (CPU %.2f)\n", round, b.wall_ms, b.cpu_ms);
+    const BenchTime v = bench_viewer(g, n, round);
+    bare.wall_ms += b.wall_ms / kBenchRounds;
+    bare.cpu_ms += b.cpu_ms / kBenchRounds;
+    viewer.wall_ms += v.wall_ms / kBenchRounds;
+    viewer.cpu_ms += v.cpu_ms / kBenchRounds;
   }
   g.session.stop();
-  const double bare = bare_total / 2, viewer = viewer_total / 2;
-  std::printf("bench %s %s %dx%d spp %d: bare %.2f ms/frame (%.2f fps), viewer %.2f ms/frame (%.2f fps), "
-              "viewer/bare %.3f (%+.1f%%)\n",
-              o.integrator.c_str(), g.session.args().scene.c_str(), o.film.width, o.film.height, o.render.spp, bare,
-              1000 / bare, viewer, 1000 / viewer, viewer / bare, (viewer / bare - 1) * 100);
+  std::printf("bench %s %s %dx%d spp %d: bare %.2f ms/frame (%.2f fps), viewer %.2f ms/frame (%.2f fps): "
+              "viewer/bare wall %.3f (%+.1f%%), CPU %.3f (%+.1f%%)\n",
+              o.integrator.c_str(), g.session.args().scene.c_str(), o.film.width, o.film.height, o.render.spp, bare.wall_ms,
+              1000 / bare.wall_ms, viewer.wall_ms, 1000 / viewer.wall_ms, viewer.wall_ms / bare.wall_ms,
+              (viewer.wall_ms / bare.wall_ms - 1) * 100, viewer.cpu_ms / bare.cpu_ms, (viewer.cpu_ms / bare.cpu_ms - 1) * 100);
   return 0;
 }
 

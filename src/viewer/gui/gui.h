@@ -32,6 +32,8 @@ struct Gui {
   double last_flip_time = -1e9;
   bool paused = false;
   UiCost cost;
+  double last_draw = 0;  // when the window was last drawn (s)
+  int settle = 0;        // frames still to draw after input
   ViewState shown_view;      // what the texture shows, to tell when to redraw it
   OutputOptions shown_output;
   float shown_scale = 0;
