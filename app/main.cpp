@@ -1,4 +1,4 @@
-// The `restir` command line: render, info, compare, options. Every error becomes one line
+// The `restir` command line: render, view, info, compare, options. Every error becomes one line
 // "error: ..." on stderr and one exit status: 0 ok, 1 bad input or runtime error, 2 usage (bad
 // flags, missing arguments), 130 interrupted.
 #include <CLI/CLI.hpp>
@@ -26,6 +26,10 @@
 #include "study/runner.h"
 #include "study/slurm.h"
 #include "study/study_file.h"
+#include "viewer/session.h"
+#ifdef RESTIR_HAVE_VIEWER
+#include "viewer/view.h"
+#endif
 
 using namespace rl;
 namespace fs = std::filesystem;
@@ -331,6 +335,20 @@ int main(int argc, char** argv) {
   export_mi->add_option("--config", ea.config, "JSON file of options (applied before --set)");
   export_mi->footer("Mitsuba's max_depth is path.max_depth + 1 (it counts the camera segment). See src/scene/mitsuba_export.h.");
 
+  viewer::ViewArgs va;
+  auto* view = app.add_subcommand("view", "interactive viewer: the frame re-rendered live, every option editable");
+  view->add_option("scene", va.scene, "scene file (.pbrt, .obj, .gltf, .glb, .ply)")->required();
+  view->add_option("--integrator", va.integrator, "integrator name (= --set integrator=NAME)");
+  view->add_option("--spp", va.spp, "samples per pixel per frame (default 1: the viewer accumulates frames)")->check(integer_in(1, INT_MAX));
+  view->add_option("--set", va.sets, "set any option: key=value (repeatable; see `restir options`)");
+  view->add_option("--config", va.config, "JSON file of options (applied before --set)");
+  view->add_option("--reference", va.reference, "converged EXR of the same view: relMSE / FLIP readouts, error map, A/B split");
+  view->add_option("--scale", va.scale, "render scale: 1, 0.5 or 0.25 of film.width x film.height")->check(CLI::IsMember({1.0f, 0.5f, 0.25f}));
+  view->add_option("--script", va.script, "run a script of commands (set, frames, screenshot, ...; see src/viewer/script.h) and exit");
+  view->add_option("--bench", va.bench, "render N frames bare and N through the viewer loop; print ms/frame and the ratio")->check(integer_in(1, 100000));
+  view->footer("Controls: left drag turns (orbit / fly), right drag pans, wheel dollies, WASD + Q/E move, R resets the camera,\n"
+               "Space pauses. Option precedence: defaults < scene file < render.spp=1 < --config < flags < --set.");
+
   auto* options = app.add_subcommand("options", "list every option key with its type, default and meaning");
 
   study::StudyArgs sa;
@@ -367,10 +385,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
     std::string msg = e.what();
-    const char* commands = "render, info, compare, study, options";
+    const char* commands = "render, view, info, compare, study, options";
     if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
     else if (argv[1][0] != '-' &&
-             std::string(" render info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+             std::string(" render view info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
       msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
@@ -381,6 +399,14 @@ int main(int argc, char** argv) {
     if (*info) return run_info(info_scene);
     if (*export_mi) return run_export_mitsuba(ea);
     if (*compare) return run_compare(cmp_a, cmp_b, cmp_json);
+    if (*view) {
+#ifdef RESTIR_HAVE_VIEWER
+      return viewer::run_view(va);
+#else
+      throw std::runtime_error("view: this build has no viewer (configure with -DRESTIR_VIEWER=ON; it needs the Debian "
+                               "packages libglfw3-dev, libimgui-dev and libgl-dev)");
+#endif
+    }
     if (*study_cmd) {
       if (study_list) {
         for (const auto& [name, description] : study::list_studies()) fmt::print("{:<18} {}\n", name, description);

@@ -2,7 +2,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PACKAGES=(g++ cmake ninja-build pkg-config libembree-dev libtbb-dev libopenexr-dev libstb-dev
-  libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev gnuplot-nox)
+  libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev gnuplot-nox
+  libglfw3-dev libimgui-dev libgl-dev)  # the last three: the viewer, `restir view` (CMake option RESTIR_VIEWER)
 
 install_missing_packages() {
   local missing=()

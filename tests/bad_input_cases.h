@@ -315,6 +315,25 @@ inline std::vector<BadCase> bad_input_cases() {
   opt("camera path fov 1e300", "--set render.camera_path={d}/cp.json", {"cp.json", "fov"},
       {{"cp.json", R"({"keys": [{"eye": [0, 0, 0], "target": [0, 0, 1], "fov": 1e300}]})"}});
 
+  opt("camera path mirror not a bool", "--set render.camera_path={d}/cp.json", {"cp.json", "mirror"},
+      {{"cp.json", R"({"keys": [{"eye": [0, 0, 0], "target": [0, 0, 1], "mirror": 1}]})"}});
+
+#ifdef RESTIR_HAVE_VIEWER
+  // The viewer refuses bad input before it opens a window (no display needed).
+  v.push_back({"view: unknown script command", {scene[0], {"sc.txt", "frames 1\nzoom 2\n"}},
+               "view {d}/s.pbrt --script {d}/sc.txt", 1, {"sc.txt:2", "zoom"}});
+  v.push_back({"view: script frames 0", {scene[0], {"sc.txt", "# c\nframes 0\n"}}, "view {d}/s.pbrt --script {d}/sc.txt",
+               1, {"sc.txt:2", "frames"}});
+  v.push_back({"view: missing script", scene, "view {d}/s.pbrt --script {d}/none.txt", 1, {"--script", "none.txt"}});
+  v.push_back({"view: --set out of range", scene, "view {d}/s.pbrt --set di.spatial_neighbors=99", 1,
+               {"di.spatial_neighbors", "99"}});
+  v.push_back({"view: missing reference", scene, "view {d}/s.pbrt --reference {d}/r.exr", 1, {"r.exr"}});
+  v.push_back({"view: bad config", {scene[0], {"c.json", R"({"render": {"nope": 1}})"}}, "view {d}/s.pbrt --config {d}/c.json",
+               1, {"c.json", "render.nope"}});
+  usage("view --scale 0.3", "view {d}/s.pbrt --scale 0.3", {"--scale", "0.3"});
+  usage("view without a scene", "view", {"scene"});
+#endif
+
   // Studies: a plot that would be silently lost, a study that is not JSON.
   v.push_back({"study plot named -p", {{"s.pbrt", good_scene()}, {"st.json", R"({"scenes": ["s.pbrt"], "metrics": ["time"],
       "axes": [{"key": "render.spp", "values": [1, 2]}], "plots": [{"name": "-p", "x": "render.spp", "y": "time"}]})"}},

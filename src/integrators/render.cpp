@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <optional>
 
 #include "core/parallel.h"
@@ -61,53 +62,101 @@ void check_finite(const std::string& integrator, int frame, const Image& img) {
 
 }  // namespace
 
+FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const PlantedBias* planted)
+    : scene_(scene), planted_(planted), o_(o) {
+  validate_options(o_);
+  limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
+  accel_ = std::make_unique<Accel>(scene_);
+  lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
+  integrator_ = make_integrator(o_.integrator, RenderContext{scene_, *accel_, *lights_, o_, planted_});
+}
+
+FrameRenderer::~FrameRenderer() = default;
+
+void FrameRenderer::reset(const Options& o) {
+  validate_options(o);
+  find_integrator(o.integrator);  // an unknown name throws before anything is replaced
+  integrator_.reset();            // it refers to o_ and the lights, replaced below
+  const bool new_lights = o.render.light_selection != o_.render.light_selection;
+  const bool new_limit = o.render.threads != o_.render.threads;
+  o_ = o;
+  if (new_limit) {
+    limit_.reset();
+    limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
+  }
+  if (new_lights) lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
+  integrator_ = make_integrator(o_.integrator, RenderContext{scene_, *accel_, *lights_, o_, planted_});
+  previous_.reset();
+  frame_ = 0;
+}
+
+void FrameRenderer::set_threads(int threads) {
+  if (threads == o_.render.threads) return;
+  Options o = o_;
+  o.render.threads = threads;
+  validate_options(o);
+  o_.render.threads = threads;
+  limit_.reset();
+  limit_ = std::make_unique<ThreadLimit>(threads);
+}
+
+double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
+                                   const std::function<void(int, int)>& progress) {
+  PerspectiveCamera cam(key, o_.film.width, o_.film.height);
+  FrameInfo info;
+  info.index = frame_;
+  info.count = count;
+  info.camera = &cam;
+  info.previous_camera = previous_ ? &*previous_ : nullptr;
+  info.progress = progress;
+  info.stages = stages;
+  // A zeroed image of the film's size, as the integrators expect (some add their chains into it).
+  if (out.width != o_.film.width || out.height != o_.film.height) out = Image(o_.film.width, o_.film.height);
+  else std::fill(out.pixels.begin(), out.pixels.end(), Rgb(0));
+  auto t0 = std::chrono::steady_clock::now();
+  integrator_->render_frame(info, out);
+  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  check_finite(o_.integrator, frame_, out);
+  previous_ = cam;
+  ++frame_;
+  return ms;
+}
+
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
   validate_options(o);
-  ThreadLimit limit(o.render.threads);
   Camera camera = scene.camera;
   if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
   if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
-
-  Accel accel(scene);
-  Lights lights(scene, o.render.light_selection);
-  RenderContext ctx{scene, accel, lights, o, hooks.planted};
-  auto integrator = make_integrator(o.integrator, ctx);
+  FrameRenderer renderer(scene, o, hooks.planted);
 
   RenderResult result;
   result.average = Image(o.film.width, o.film.height);
   const bool bar = hooks.progress_bar && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
-  std::optional<PerspectiveCamera> previous;
   for (int f = 0; f < o.render.frames; ++f) {
-    PerspectiveCamera cam(camera.at_frame(f, o.render.frames), o.film.width, o.film.height);
-    FrameInfo info;
-    info.index = f;
-    info.count = o.render.frames;
-    info.camera = &cam;
-    info.previous_camera = previous ? &*previous : nullptr;
+    std::function<void(int, int)> progress;
     if (bar)
-      info.progress = [&](int done, int total) {
+      progress = [&](int done, int total) {
         double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         draw_progress(f, o.render.frames, done, total, el);
       };
     Image img(o.film.width, o.film.height);
     StageTimes stages;
-    info.stages = &stages;
-    auto t0 = std::chrono::steady_clock::now();
-    integrator->render_frame(info, img);
-    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    check_finite(o.integrator, f, img);
+    double ms = renderer.render_frame(camera.at_frame(f, o.render.frames), o.render.frames, img, &stages, progress);
     result.frame_ms.push_back(ms);
     result.frame_stages.push_back(std::move(stages));
-    // Running mean, numerically stable for long sequences.
-    const float w = 1.0f / float(f + 1);
-    for (size_t i = 0; i < img.size(); ++i) result.average.pixels[i] += (img.pixels[i] - result.average.pixels[i]) * w;
+    accumulate_mean(result.average, img, f + 1);
     if (hooks.on_frame) hooks.on_frame(f, img, ms);
     if (f + 1 == o.render.frames) result.last = std::move(img);
-    previous = cam;
   }
   if (bar) std::fprintf(stderr, "\n");
   return result;
+}
+
+void accumulate_mean(Image& mean, const Image& img, int count) {
+  // Running mean, numerically stable for long sequences.
+  const float w = 1.0f / float(count);
+  for (size_t i = 0; i < img.size(); ++i) mean.pixels[i] += (img.pixels[i] - mean.pixels[i]) * w;
 }
 
 }  // namespace rl

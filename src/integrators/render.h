@@ -2,12 +2,15 @@
 // harness drive integrators only through this.
 #pragma once
 #include <functional>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "image/image.h"
 #include "integrators/options.h"
 #include "integrators/planted_bias.h"
 #include "integrators/stage_times.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace rl {
@@ -30,7 +33,51 @@ struct RenderHooks {
 // option values. Call before user settings so that they override the scene.
 void apply_scene_hints(Options& o, const SceneHints& hints);
 
+class Accel;
+class Lights;
+class Integrator;
+class ThreadLimit;
+
+// One integrator kept alive across frames, with the scene's BVH and lights, so that ReSTIR's
+// temporal history carries from frame to frame. render() drives one over a sequence; the viewer
+// keeps one for a whole session and calls reset() when an option changes.
+class FrameRenderer {
+ public:
+  // Validates o and builds the BVH, the lights and the integrator (throws OptionError for bad options).
+  FrameRenderer(const Scene& scene, const Options& o, const PlantedBias* planted = nullptr);
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  // New options: a fresh integrator (no history; the next frame is frame 0); the lights are rebuilt
+  // only when the light selection changed, the BVH never (it depends on the scene alone).
+  void reset(const Options& o);
+  // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
+  // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
+  // for reprojection. Throws RenderError when a pixel is not finite. Returns the wall time in ms.
+  double render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
+                      const std::function<void(int, int)>& progress = {});
+  // A new worker thread count (render.threads); the integrator and its history stay.
+  void set_threads(int threads);
+  const Options& options() const { return o_; }
+  int frames_rendered() const { return frame_; }
+
+ private:
+  const Scene& scene_;
+  const PlantedBias* planted_;
+  Options o_;  // the integrator's RenderContext refers to it: the object never moves
+  std::unique_ptr<Accel> accel_;
+  std::unique_ptr<Lights> lights_;
+  std::unique_ptr<ThreadLimit> limit_;
+  std::unique_ptr<Integrator> integrator_;
+  std::optional<PerspectiveCamera> previous_;
+  int frame_ = 0;
+};
+
 // Renders o.render.frames frames. Throws OptionError / RenderError / std::runtime_error.
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks = {});
+
+// mean <- mean + (img - mean) / count: the running mean after the count-th image (same size).
+void accumulate_mean(Image& mean, const Image& img, int count);
 
 }  // namespace rl

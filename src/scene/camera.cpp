@@ -116,6 +116,12 @@ void load_camera_path(const std::string& path, Camera& camera) {
     Vec3 up = k.contains("up") ? json_vec3(k, "up", where) : Vec3(0, 1, 0);
     if (!look_at(json_vec3(k, "eye", where), json_vec3(k, "target", where), up, key.camera_from_world))
       throw std::runtime_error(where + ": eye, target and up do not define a camera");
+    // "mirror": true flips the image left-right, as pbrt scenes do with Scale -1 1 1 before
+    // LookAt; the viewer writes it when it records such a scene's camera.
+    if (k.contains("mirror")) {
+      if (!k["mirror"].is_boolean()) throw std::runtime_error(where + ": 'mirror' must be true or false");
+      if (k["mirror"].get<bool>()) key.camera_from_world = scale(Vec3(-1, 1, 1)) * key.camera_from_world;
+    }
     if (k.contains("fov")) {
       if (!k["fov"].is_number()) throw std::runtime_error(where + ": 'fov' must be a number");
       double fov = k["fov"].get<double>();

@@ -28,7 +28,8 @@ class PerspectiveCamera {
   int width_, height_;
 };
 
-// Reads {"keys": [{"eye": [..], "target": [..], "up": [..], "fov": deg}, ...]} into camera.keys.
+// Reads {"keys": [{"eye": [..], "target": [..], "up": [..], "fov": deg}, ...]} into camera.keys;
+// a key's optional "mirror": true mirrors its image left-right (pbrt's Scale -1 1 1).
 // Throws std::runtime_error naming the file on any problem.
 void load_camera_path(const std::string& path, Camera& camera);
 

@@ -1,0 +1,350 @@
+#include "viewer/session.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/build_info.h"
+#include "core/output_guard.h"
+#include "image/image_io.h"
+#include "integrators/integrator.h"
+#include "scene/camera.h"
+#include "scene/loader.h"
+
+namespace rl::viewer {
+
+Options viewer_options(const ViewArgs& a, const Scene& scene) {
+  Options o;
+  apply_scene_hints(o, scene.hints);
+  // A scene file's pixel count is for a converged still (the Cornell box asks for 64 spp): the
+  // viewer accumulates frames instead, so it starts at one sample per pixel per frame.
+  o.render.spp = 1;
+  if (!a.config.empty()) apply_options_file(o, a.config);
+  if (!a.integrator.empty()) set_option(o, "integrator", a.integrator);
+  if (a.spp > 0) set_option(o, "render.spp", std::to_string(a.spp));
+  for (const auto& s : a.sets) set_option_assignment(o, s);
+  validate_options(o);
+  find_integrator(o.integrator);
+  return o;
+}
+
+namespace {
+
+Camera initial_camera(const Scene& scene) {
+  Camera c = scene.camera;
+  if (c.keys.empty()) c.keys.push_back(CameraKey{});
+  return c;
+}
+
+CameraKey key_of(const PathKey& p) {
+  CameraKey k;
+  k.fov_degrees = p.fov;
+  if (look_at(p.eye, p.target, p.up, k.camera_from_world) && p.mirror)
+    k.camera_from_world = scale(Vec3(-1, 1, 1)) * k.camera_from_world;
+  return k;
+}
+
+}  // namespace
+
+Session::Session(const ViewArgs& a)
+    : args_(a),
+      scene_(load_scene(a.scene)),
+      options_(viewer_options(a, scene_)),
+      camera_(initial_camera(scene_).keys.front(), scene_.bounds()) {
+  set_scale(a.scale);
+  // Its size is checked against the render's when it is used: the film size is an option that
+  // may change during the session.
+  if (!a.reference.empty()) reference_ = read_image(a.reference);
+  pending_ = effective_options();
+  pending_camera_ = camera_.key();
+  pending_path_key_ = camera_.path_key();
+}
+
+Session::~Session() { stop(); }
+
+void Session::start(std::function<void()> wake) {
+  wake_ = std::move(wake);
+  thread_ = std::thread([this] { worker(); });
+}
+
+void Session::stop() {
+  {
+    std::lock_guard lk(m_);
+    quit_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+Options Session::effective_options() const {
+  Options o = options_;
+  o.film.width = std::max(1, int(std::lround(double(o.film.width) * scale_)));
+  o.film.height = std::max(1, int(std::lround(double(o.film.height) * scale_)));
+  return o;
+}
+
+void Session::push_restart() {
+  {
+    std::lock_guard lk(m_);
+    pending_ = effective_options();
+    restart_ = true;
+  }
+  cv_.notify_all();
+}
+
+Effect Session::set(const std::string& key, const std::string& value) {
+  const Effect e = apply_option(options_, key, value);
+  if (e == Effect::restart) {
+    push_restart();
+  } else if (e == Effect::threads) {
+    {
+      std::lock_guard lk(m_);
+      pending_.render.threads = options_.render.threads;
+      threads_changed_ = true;
+    }
+    cv_.notify_all();
+  }
+  return e;
+}
+
+void Session::set_scale(float s) {
+  if (s != 1 && s != 0.5f && s != 0.25f) throw OptionError(fmt::format("render scale {} is not one of 1, 0.5, 0.25", s));
+  if (s == scale_) return;
+  scale_ = s;
+  scaled_reference_.reset();
+  push_restart();
+}
+
+const Image* Session::reference() const {
+  if (!reference_) return nullptr;
+  const Options o = effective_options();
+  const Image* ref = &*reference_;
+  if (scale_ != 1) {
+    // The reference at the render's size: box-filtered over the factor's pixel blocks, which is
+    // what a render at that size converges to, up to the pixel filter's footprint.
+    if (!scaled_reference_) scaled_reference_ = downsample(*reference_, int(std::lround(1 / scale_)));
+    ref = &*scaled_reference_;
+  }
+  return ref->width == o.film.width && ref->height == o.film.height ? ref : nullptr;
+}
+
+void Session::set_paused(bool p) {
+  {
+    std::lock_guard lk(m_);
+    paused_ = p;
+  }
+  cv_.notify_all();
+}
+
+void Session::camera_moved() {
+  {
+    std::lock_guard lk(m_);
+    pending_camera_ = camera_.key();
+    pending_path_key_ = camera_.path_key();
+    camera_changed_ = true;
+    play_.reset();
+  }
+  cv_.notify_all();
+}
+
+void Session::play_camera_path() {
+  Camera path = initial_camera(scene_);
+  if (!options_.render.camera_path.empty()) {
+    load_camera_path(options_.render.camera_path, path);
+  } else {
+    std::lock_guard lk(m_);
+    if (recorded_.empty()) throw std::runtime_error("play: no camera path: set render.camera_path or record one");
+    path.keys.clear();
+    for (const PathKey& k : recorded_) path.keys.push_back(key_of(k));
+  }
+  {
+    std::lock_guard lk(m_);
+    play_ = std::move(path);
+    play_frames_ = options_.render.frames;
+    play_index_ = 0;
+    pending_ = effective_options();
+    restart_ = true;  // from frame 0 with no history, as `restir render` starts
+  }
+  cv_.notify_all();
+}
+
+bool Session::playing() const {
+  std::lock_guard lk(m_);
+  return play_ && play_index_ < play_frames_;
+}
+
+void Session::record(bool on) {
+  recording_ = on;
+  std::lock_guard lk(m_);
+  if (on && !worker_recording_) recorded_.clear();
+  worker_recording_ = on;
+}
+
+size_t Session::recorded_keys() const {
+  std::lock_guard lk(m_);
+  return recorded_.size();
+}
+
+std::vector<std::string> Session::inputs() const {
+  std::vector<std::string> in = scene_.input_files;
+  if (in.empty()) in.push_back(args_.scene);
+  if (!args_.config.empty()) in.push_back(args_.config);
+  if (!args_.reference.empty()) in.push_back(args_.reference);
+  if (!options_.render.camera_path.empty()) in.push_back(options_.render.camera_path);
+  return in;
+}
+
+void Session::save_camera_path(const std::string& path) const {
+  std::vector<PathKey> keys;
+  {
+    std::lock_guard lk(m_);
+    keys = recorded_;
+  }
+  if (keys.empty()) throw std::runtime_error("record save '" + path + "': no camera keys recorded (record start, render, record stop)");
+  check_outputs({{path, "camera path", {".json"}}}, inputs());
+  write_text_file_atomic(path, camera_path_json(keys));
+}
+
+void Session::save_config(const std::string& path) const {
+  Options o = options_;
+  const PathKey now = camera_.path_key();
+  const PathKey home = CameraController(initial_camera(scene_).keys.front(), scene_.bounds()).path_key();
+  const bool moved = length(now.eye - home.eye) > 0 || length(now.target - home.target) > 0;
+  std::vector<OutputFile> outs = {{path, "config", {".json"}}};
+  std::string camera_file;
+  if (moved) {
+    camera_file = std::filesystem::path(path).replace_extension(".camera.json").string();
+    outs.push_back({camera_file, "camera path of " + path, {".json"}});
+    o.render.camera_path = camera_file;
+  }
+  check_outputs(outs, inputs());
+  if (moved) write_text_file_atomic(camera_file, camera_path_json({now}));
+  write_text_file_atomic(path, options_to_json(o) + "\n");
+}
+
+void Session::render_frames(int n) {
+  {
+    std::lock_guard lk(m_);
+    budget_ = done_ + n;
+  }
+  cv_.notify_all();
+}
+
+bool Session::frames_done() const {
+  std::lock_guard lk(m_);
+  return !error_.empty() || (budget_ >= 0 && done_ >= budget_);
+}
+
+void Session::wait_frames_done() const {
+  std::unique_lock lk(m_);
+  done_cv_.wait(lk, [&] { return !error_.empty() || (budget_ >= 0 && done_ >= budget_); });
+}
+
+bool Session::take_frame(bool accumulate, bool force, Image& hdr, FrameReadout& r) {
+  std::lock_guard lk(m_);
+  if (!new_frame_ && !force) return false;
+  new_frame_ = false;
+  hdr = accumulate ? shared_mean_ : shared_last_;
+  r = shared_readout_;
+  return true;
+}
+
+std::string Session::error() const {
+  std::lock_guard lk(m_);
+  return error_;
+}
+
+void Session::clear_error() {
+  {
+    std::lock_guard lk(m_);
+    error_.clear();
+    restart_ = true;
+    pending_ = effective_options();
+  }
+  cv_.notify_all();
+}
+
+void Session::screenshot(const std::string& base, const Image& hdr, const Image& ldr, const FrameReadout& r,
+                         const std::string& view_json) const {
+  if (hdr.empty()) throw std::runtime_error("screenshot '" + base + "': no frame rendered yet");
+  std::filesystem::path p(base);
+  if (p.extension() == ".exr" || p.extension() == ".png") p.replace_extension();
+  const std::string stem = p.string();
+  check_outputs({{stem + ".exr", "screenshot", {".exr"}},
+                 {stem + ".png", "screenshot", {".png"}},
+                 {stem + ".json", "sidecar of " + stem + ".exr", {".json"}, false, true}},
+                inputs());
+  const std::string config = options_to_json(effective_options(), -1);
+  write_exr(stem + ".exr", hdr, {{"restir.version", rl::build_id()}, {"restir.scene", args_.scene}, {"restir.config", config}});
+  write_png(stem + ".png", ldr);
+  nlohmann::ordered_json side;
+  side[kSidecarMarker] = 1;
+  side["version"] = rl::build_id();
+  side["scene"] = args_.scene;
+  side["config"] = nlohmann::ordered_json::parse(config);
+  const PathKey k = camera_.path_key();
+  side["camera"] = nlohmann::ordered_json::parse(camera_path_json({k}))["keys"][0];
+  side["view"] = nlohmann::ordered_json::parse(view_json);
+  side["frames_accumulated"] = r.accumulated;
+  side["frame_ms"] = r.ms;
+  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+  for (const auto& [name, ms] : r.stages.ms) stages[name] = ms;
+  side["stage_ms"] = std::move(stages);
+  write_text_file_atomic(stem + ".json", side.dump(2) + "\n");
+}
+
+void Session::worker() {
+  std::unique_ptr<FrameRenderer> renderer;
+  Accumulation accum;
+  Image frame;
+  CameraKey camera = pending_camera_;
+  PathKey path_key = pending_path_key_;
+  for (;;) {
+    bool restart = false, threads = false, moved = false;
+    Options o;
+    {
+      std::unique_lock lk(m_);
+      cv_.wait(lk, [&] { return quit_ || (!paused_ && error_.empty() && (budget_ < 0 || done_ < budget_)); });
+      if (quit_) return;
+      std::swap(restart, restart_);
+      std::swap(threads, threads_changed_);
+      std::swap(moved, camera_changed_);
+      o = pending_;
+      camera = pending_camera_;
+      path_key = pending_path_key_;
+      if (play_ && play_index_ < play_frames_) {
+        camera = play_->at_frame(play_index_, play_frames_);
+        moved = play_index_++ > 0;
+      } else if (play_) {
+        camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
+      }
+    }
+    try {
+      if (!renderer) renderer = std::make_unique<FrameRenderer>(scene_, o);
+      else if (restart) renderer->reset(o);
+      else if (threads) renderer->set_threads(o.render.threads);
+      if (restart || moved) accum.reset();
+      StageTimes stages;
+      const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages);
+      accum.add(frame);
+      std::lock_guard lk(m_);
+      if (worker_recording_) recorded_.push_back(path_key);
+      shared_mean_ = accum.mean();
+      shared_last_ = accum.last();
+      shared_readout_ = {ms, std::move(stages), accum.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
+      new_frame_ = true;
+      ++done_;
+    } catch (const std::exception& e) {
+      std::lock_guard lk(m_);
+      error_ = e.what();
+      renderer.reset();  // rebuilt from the pending options once the error is cleared
+    }
+    done_cv_.notify_all();
+    if (wake_) wake_();
+  }
+}
+
+}  // namespace rl::viewer

@@ -1,0 +1,146 @@
+// The viewer's state without its window: the scene, the options as the user set them, a worker
+// thread that renders frames with one persistent FrameRenderer (so ReSTIR's history carries over),
+// the progressive accumulation, the camera, and the files a session writes (screenshots, configs,
+// camera paths). The GUI (viewer/gui_*.cpp) draws it and feeds it input; the script runner drives
+// it without a user. Threads: every public function is for the UI thread; the worker only sees
+// what they hand over under the lock.
+#pragma once
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "image/image.h"
+#include "integrators/options.h"
+#include "integrators/render.h"
+#include "integrators/stage_times.h"
+#include "scene/scene.h"
+#include "viewer/camera_controller.h"
+#include "viewer/display.h"
+#include "viewer/option_model.h"
+
+namespace rl::viewer {
+
+// `restir view` arguments (app/main.cpp fills them from the command line).
+struct ViewArgs {
+  std::string scene, integrator, config, script, reference;
+  std::vector<std::string> sets;
+  float scale = 1;  // render at this fraction of film.width x film.height: 1, 0.5 or 0.25
+  int spp = 0;      // --spp (0: the viewer's default of 1, see viewer_options)
+  int bench = 0;    // --bench N: N frames bare, then N through the viewer loop; print the ratio
+  int width = 0, height = 0;  // window size (0: fit the image)
+  bool quiet = false;
+};
+
+// The options of a viewer session: defaults < the scene file < 1 spp per frame (the viewer
+// accumulates frames instead) < --config < --integrator / --spp < --set. Validated.
+Options viewer_options(const ViewArgs& a, const Scene& scene);
+
+// The numbers of the latest frame.
+struct FrameReadout {
+  double ms = 0;
+  StageTimes stages;
+  int accumulated = 0;  // frames in the progressive mean
+  int frame = 0;        // frame index since the integrator was (re)created
+  int width = 0, height = 0;
+  long long serial = 0;  // frames rendered by the session before this one + 1
+};
+
+class Session {
+ public:
+  explicit Session(const ViewArgs& a);  // loads the scene, options and reference; throws on bad input
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Starts the worker; `wake` is called (from the worker) after each frame and on an error.
+  void start(std::function<void()> wake);
+  void stop();
+
+  const Options& options() const { return options_; }  // film size before the render scale
+  Options effective_options() const;                   // what the worker renders (scaled film)
+  const Scene& scene() const { return scene_; }
+  const ViewArgs& args() const { return args_; }
+  // Applies key=value if valid (else throws OptionError, nothing changes) and hands the worker
+  // what the change invalidates: nothing for output.*, the thread count, or a restart.
+  Effect set(const std::string& key, const std::string& value);
+  void set_scale(float s);
+  float scale() const { return scale_; }
+  void set_paused(bool p);
+  bool paused() const { return paused_; }
+
+  CameraController& camera() { return camera_; }
+  void camera_moved();  // after changing camera(): accumulation restarts, history is reprojected
+  // Plays render.camera_path (or, if it is empty, the recorded path) from frame 0 through
+  // render.frames frames exactly as `restir render` would, then holds its last key.
+  void play_camera_path();
+  bool playing() const;
+  void record(bool on);
+  bool recording() const { return recording_; }
+  size_t recorded_keys() const;
+  void save_camera_path(const std::string& path) const;
+  // The options as a --config JSON; a moved camera goes with it as PATH.camera.json
+  // (render.camera_path), so the file reproduces the view.
+  void save_config(const std::string& path) const;
+
+  // Script mode: render exactly n more frames, then idle (until the next call); done() tells.
+  void render_frames(int n);
+  bool frames_done() const;
+  void wait_frames_done() const;
+
+  // Copies the shown image (mean or last frame) and its numbers when a frame arrived since the
+  // last call, or always with `force`. False: nothing new.
+  bool take_frame(bool accumulate, bool force, Image& hdr, FrameReadout& r);
+  std::string error() const;  // the worker's error (it stops rendering); empty when fine
+  void clear_error();
+
+  // The --reference image at the render's size (downsampled at a render scale < 1); null without
+  // one or when its size is not the film's.
+  const Image* reference() const;
+  bool has_reference() const { return reference_.has_value(); }
+  // Writes BASE.exr (hdr), BASE.png (ldr), BASE.json (sidecar: options, camera, view, metrics).
+  void screenshot(const std::string& base, const Image& hdr, const Image& ldr, const FrameReadout& r,
+                  const std::string& view_json) const;
+  // The inputs no output may overwrite (scene files, --config, camera path, reference).
+  std::vector<std::string> inputs() const;
+
+ private:
+  void worker();
+  void push_restart();
+
+  ViewArgs args_;
+  Scene scene_;
+  Options options_;
+  float scale_ = 1;
+  std::optional<Image> reference_;
+  mutable std::optional<Image> scaled_reference_;
+  CameraController camera_;
+  bool recording_ = false;
+  bool paused_ = false;
+
+  // Shared with the worker, under m_.
+  mutable std::mutex m_;
+  mutable std::condition_variable cv_;     // the worker waits on it for work
+  mutable std::condition_variable done_cv_;  // script mode waits on it for frames
+  bool quit_ = false, restart_ = true, threads_changed_ = false, camera_changed_ = false, new_frame_ = false;
+  Options pending_;
+  CameraKey pending_camera_;
+  PathKey pending_path_key_;
+  std::optional<Camera> play_;  // a camera path being played
+  int play_frames_ = 0, play_index_ = 0;
+  long long budget_ = -1, done_ = 0;  // frames to render (-1: no limit), frames rendered
+  bool worker_recording_ = false;
+  std::vector<PathKey> recorded_;
+  Image shared_mean_, shared_last_;
+  FrameReadout shared_readout_;
+  std::string error_;
+  std::function<void()> wake_;
+  std::thread thread_;
+};
+
+}  // namespace rl::viewer
