@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
+
+#include "integrators/render.h"
 #include "scene/accel.h"
 #include "scene/animation.h"
 #include "scene/loader.h"
@@ -112,5 +115,96 @@ TEST_SUITE("animation") {
     animate_scene(rest, 0, s);
     CHECK(s.meshes[1].positions == rest.meshes[1].positions);
     fs::remove_all(d);
+  }
+}
+
+namespace {
+// Per-frame images of a 32x32 sequence of `rest`, averaged over `runs` seeds.
+std::vector<Image> mean_frames(const Scene& rest, std::initializer_list<const char*> sets, int frames, int runs) {
+  std::vector<Image> mean(size_t(frames), Image(32, 32));
+  for (int k = 0; k < runs; ++k) {
+    Options o;
+    apply_scene_hints(o, rest.hints);
+    o.film.width = o.film.height = 32;
+    for (const char* a : sets) set_option_assignment(o, a);
+    o.render.frames = frames;
+    o.render.seed = uint64_t(1000 + k);
+    RenderHooks hooks;
+    hooks.on_frame = [&](int f, const Image& img, double) {
+      for (size_t i = 0; i < img.size(); ++i) mean[size_t(f)].pixels[i] += img.pixels[i] / float(runs);
+    };
+    render(rest, o, hooks);
+  }
+  return mean;
+}
+// Mean luminance of each 8x8 block.
+std::vector<double> blocks(const Image& img) {
+  std::vector<double> b(16, 0);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) b[size_t((y / 8) * 4 + x / 8)] += luminance(img.at(x, y)) / 64;
+  return b;
+}
+}  // namespace
+
+TEST_SUITE("animation") {
+  TEST_CASE("experiment: restir-di blocks in the dynamic room vs frozen pt references") {
+    const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
+    const int frames = 14;
+    auto di = mean_frames(rest, {"integrator=restir-di"}, frames, 16);
+    std::string msg;
+    for (int f : {3, 7, 8, 9, 10, 13}) {
+      const Scene frozen = scene_at_frame(rest, f);
+      Options o;
+      apply_scene_hints(o, rest.hints);
+      o.film.width = o.film.height = 32;
+      o.render.spp = 1024;
+      o.path.max_depth = 1;
+      const Image ref = render(frozen, o).last;
+      auto a = blocks(di[size_t(f)]), r = blocks(ref);
+      double worst = 0;
+      for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::fabs(a[i] / r[i] - 1));
+      msg += fmt::format("f{}: worst block {:+.1f}%  ", f, 100 * worst);
+      for (size_t i = 0; i < a.size(); ++i) msg += fmt::format("{:+.0f} ", 100 * (a[i] / r[i] - 1));
+      msg += "\n";
+    }
+    MESSAGE(msg);
+  }
+}
+
+namespace {
+// Mean luminance of each frame of a sequence of the dynamic room at 32x32.
+std::vector<double> frame_means(const Scene& rest, std::initializer_list<const char*> sets, int frames, uint64_t seed) {
+  Options o;
+  apply_scene_hints(o, rest.hints);
+  o.film.width = o.film.height = 32;
+  for (const char* a : sets) set_option_assignment(o, a);
+  o.render.frames = frames;
+  o.render.seed = seed;
+  std::vector<double> means;
+  RenderHooks hooks;
+  hooks.on_frame = [&](int, const Image& img, double) {
+    double sum = 0;
+    for (const Rgb& p : img.pixels) sum += luminance(p);
+    means.push_back(sum / double(img.size()));
+  };
+  render(rest, o, hooks);
+  return means;
+}
+}  // namespace
+
+TEST_SUITE("animation") {
+  TEST_CASE("experiment: restir-di frame means in the dynamic room vs per-frame pt") {
+    const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
+    const int frames = 14;
+    std::vector<double> pt(frames, 0), di(frames, 0);
+    const int runs = 4;
+    for (int k = 0; k < runs; ++k) {
+      auto a = frame_means(rest, {"integrator=pt", "render.spp=16", "path.max_depth=1"}, frames, 11 + k);
+      auto b = frame_means(rest, {"integrator=restir-di"}, frames, 11 + k);
+      for (int f = 0; f < frames; ++f) pt[size_t(f)] += a[size_t(f)] / runs, di[size_t(f)] += b[size_t(f)] / runs;
+    }
+    std::string msg;
+    for (int f = 0; f < frames; ++f) msg += fmt::format("f{} pt {:.4f} di {:.4f} ({:+.1f}%)\n", f, pt[size_t(f)], di[size_t(f)], 100 * (di[size_t(f)] / pt[size_t(f)] - 1));
+    MESSAGE(msg);
   }
 }

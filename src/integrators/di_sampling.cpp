@@ -85,8 +85,12 @@ Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, 
 }
 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility) {
+  return di_target(ctx, ctx.lights, s, y, visibility);
+}
+
+float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& s, const LightPoint& y, bool visibility) {
   Ray shadow;
-  float t = luminance(di_unshadowed(ctx.lights, s, y, ctx.accel.ray_epsilon(), visibility ? &shadow : nullptr));
+  float t = luminance(di_unshadowed(lights, s, y, ctx.accel.ray_epsilon(), visibility ? &shadow : nullptr));
   if (!(t > 0)) return 0;
   if (visibility && ctx.accel.occluded(shadow)) return 0;
   return t;

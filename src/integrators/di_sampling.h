@@ -55,6 +55,8 @@ Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, 
 
 // Target function p̂ = luminance of the unshadowed integrand (times visibility when `visibility`).
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility);
+// The same with other lights (an animated scene's previous frame), visibility in ctx's BVH.
+float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& s, const LightPoint& y, bool visibility);
 
 // Initial resampling (Talbot et al. 2005 RIS with the balance heuristic over the two strategies):
 // light_candidates from the light sampler (emitter by the selection pmf -- from `tile` when given,

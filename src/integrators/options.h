@@ -25,6 +25,9 @@ enum class DirectLighting { path, restir_di };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
 enum class SsrFallback { environment, none };
+// Animated scenes: which frame's scene gives the temporal history its target in the resampling
+// MIS weights (the previous frame's: unbiased, GRIS; this frame's: a named biased shortcut).
+enum class HistoryScene { previous, current };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
 enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
 
@@ -53,6 +56,10 @@ template <> struct EnumNames<GiTarget> {
 template <> struct EnumNames<DirectLighting> {
   static constexpr std::array<std::pair<DirectLighting, const char*>, 2> values{
       {{DirectLighting::path, "path"}, {DirectLighting::restir_di, "restir-di"}}};
+};
+template <> struct EnumNames<HistoryScene> {
+  static constexpr std::array<std::pair<HistoryScene, const char*>, 2> values{
+      {{HistoryScene::previous, "previous"}, {HistoryScene::current, "current"}}};
 };
 template <> struct EnumNames<SsrFallback> {
   static constexpr std::array<std::pair<SsrFallback, const char*>, 2> values{
@@ -124,6 +131,7 @@ struct DiOptions {
   int light_tile_size = 1024;  // emitters per tile
   bool visibility_reuse = true;
   bool neighbor_visibility = true;
+  HistoryScene history_scene = HistoryScene::previous;
   ReuseOptions reuse{.spatial_neighbors = 5, .spatial_radius = 30};
 };
 
@@ -218,6 +226,7 @@ void visit_options(O& o, V& v) {
   v("di.light_tile_size", o.di.light_tile_size, "emitters per light tile (di.light_tiles)", Range{1, 1 << 20});
   v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse (false with BSDF candidates: one shadow ray per light candidate, for the strategies' MIS)");
   v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
+  v("di.history_scene", o.di.history_scene, "animated scenes: the temporal MIS weights evaluate the history's target in the previous frame's scene (its lights; unbiased) or in this frame's (biased: where a light moved or switched on, the history claims samples it could not have drawn and the image darkens)");
   visit_reuse("di", o.di.reuse, v);
   v("gi.target", o.gi.target, "target function: luminance of the sample's radiance, or of BSDF x cosine x radiance");
   visit_reuse("gi", o.gi.reuse, v);

@@ -49,6 +49,13 @@ void draw_progress(int frame, int frames, int done, int total, double elapsed_s)
 // The one non-finite policy of every integrator: they never zero a NaN or infinity (the ReSTIR
 // ones turn a non-finite target into a non-finite pixel, see mark_non_finite); the driver stops
 // the render with the count and the first pixel.
+// An animated scene at frame 0, still animated (animate_scene copies everything on first use).
+Scene scene_at_frame_keeping_animation(const Scene& rest) {
+  Scene s;
+  animate_scene(rest, 0, s);
+  return s;
+}
+
 void check_finite(const std::string& integrator, int frame, const Image& img) {
   size_t bad = 0, first = 0;
   for (size_t i = 0; i < img.size(); ++i)
@@ -63,7 +70,11 @@ void check_finite(const std::string& integrator, int frame, const Image& img) {
 }  // namespace
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const PlantedBias* planted)
-    : scene_(scene), planted_(planted), o_(o) {
+    : rest_(scene),
+      animated_(scene_animated(scene) ? scene_at_frame_keeping_animation(scene) : Scene{}),
+      scene_(scene_animated(scene) ? animated_ : scene),
+      planted_(planted),
+      o_(o) {
   validate_options(o_);
   limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
   accel_ = std::make_unique<Accel>(scene_);
@@ -102,18 +113,26 @@ void FrameRenderer::set_threads(int threads) {
 
 double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
                                    const std::function<void(int, int)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();  // the frame's time includes moving the scene
+  if (&scene_ == &animated_) {  // move the scene to this frame; the BVH and lights follow
+    StageTimer timer(stages, "animate");
+    animate_scene(rest_, frame_, animated_);
+    accel_->update();
+    previous_lights_ = std::make_unique<Lights>(std::move(*lights_));
+    *lights_ = Lights(scene_, o_.render.light_selection);
+  }
   PerspectiveCamera cam(key, o_.film.width, o_.film.height);
   FrameInfo info;
   info.index = frame_;
   info.count = count;
   info.camera = &cam;
   info.previous_camera = previous_ ? &*previous_ : nullptr;
+  info.previous_lights = previous_ && previous_lights_ ? previous_lights_.get() : nullptr;
   info.progress = progress;
   info.stages = stages;
   // A zeroed image of the film's size, as the integrators expect (some add their chains into it).
   if (out.width != o_.film.width || out.height != o_.film.height) out = Image(o_.film.width, o_.film.height);
   else std::fill(out.pixels.begin(), out.pixels.end(), Rgb(0));
-  auto t0 = std::chrono::steady_clock::now();
   integrator_->render_frame(info, out);
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   check_finite(o_.integrator, frame_, out);

@@ -148,7 +148,7 @@ class RestirGi final : public Integrator {
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
     c.specular.assign(c.reservoirs.size(), Rgb(0));
-    auto make_bridge = [&](const GSurface* const* surfaces, int) { return GiBridge{&ctx_, o.gi.target, surfaces}; };
+    auto make_bridge = [&](const GSurface* const* surfaces, int, bool) { return GiBridge{&ctx_, o.gi.target, surfaces}; };
 
     {
       StageTimer timer(frame.stages, "candidates");

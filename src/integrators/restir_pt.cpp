@@ -74,7 +74,7 @@ class RestirPt final : public Integrator {
     const uint64_t seed = o.render.seed;
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
-    auto make_bridge = [&](const GSurface* const* surfaces, int) { return PtBridge{&ctx_, &settings_, surfaces}; };
+    auto make_bridge = [&](const GSurface* const* surfaces, int, bool) { return PtBridge{&ctx_, &settings_, surfaces}; };
 
     // 1. Initial paths.
     {

@@ -86,7 +86,7 @@ void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& prev
     hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, float(rp.max_history));
     const GSurface* surfaces[2] = {&cur, &prev};
     const Res* inputs[2] = {&reservoirs[p], &hist};
-    auto bridge = make_bridge(surfaces, 2);
+    auto bridge = make_bridge(surfaces, 2, true);
     Pcg32 rng = make_rng(p, frame, RngPass::temporal, seed, chain);
     restir::CombineInfo info;
     next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
@@ -132,7 +132,7 @@ void spatial_passes(const ReuseOptions& rp, const GBuffer& g, std::vector<restir
         inputs[size_t(n)] = &reservoirs[size_t(ny * w + nx)];
         ++n;
       }
-      auto bridge = make_bridge(surfaces.data(), n);
+      auto bridge = make_bridge(surfaces.data(), n, false);
       restir::CombineInfo info;
       next[p] = restir::combine(bridge, std::span<const Res* const>(inputs.data(), size_t(n)), rp.spatial_mis, rng, &info);
       dbg.rejected[p] += uint16_t(info.failed_shifts);

@@ -85,6 +85,12 @@ class Lights {
   bool sample_point(float u_select, Vec2 u, EmitterPoint& out) const;
   // Density of sample_point() at a point of emitter e (direction for the environment), same measure.
   float point_pdf(uint32_t emitter, Vec3 position) const;
+  // Where a point on emitter e of `before` (the same scene's lights one frame earlier) is now: an
+  // animated emitter carries its points along (same barycentrics on a triangle, same offset from a
+  // sphere's centre, the point light's position, the environment direction turned with the map).
+  // Rigid motion keeps area, so the map's Jacobian is 1 in the emitters' area measure. false when
+  // e is not the same kind of emitter in both (the sample must be dropped).
+  bool follow(uint32_t e, const Lights& before, Vec3& position, Vec3& normal) const;
   float environment_pdf(Vec3 dir) const;      // includes the selection probability; 0 without environment
   Rgb environment_radiance(Vec3 dir) const;   // radiance arriving from direction dir; 0 without environment
   bool has_environment() const { return env_emitter_ != kNoEmitter; }
