@@ -200,7 +200,11 @@ if command -v xdotool >/dev/null; then
     [ -n "$wid" ] && break
     sleep 0.1
   done
-  [ -n "$wid" ] || fail "the interactive viewer's window did not appear"
+  if [ -z "$wid" ]; then
+    alive=no
+    kill -0 "$viewer_pid" 2>/dev/null && alive=yes
+    fail "the interactive viewer's window did not appear (running: $alive; stderr: $(cat "$work/ia/stderr.txt"))"
+  fi
   sleep 2  # a few frames
   xdotool mousemove --window "$wid" 100 360 key F12
   wait_for "$work/ia/out/view.window.png"
