@@ -127,6 +127,7 @@ class Session {
   mutable std::mutex m_;
   mutable std::condition_variable cv_;     // the worker waits on it for work
   mutable std::condition_variable done_cv_;  // script mode waits on it for frames
+  std::atomic<bool> abort_{false};  // cut the frame being rendered (a restart or quit is pending)
   bool quit_ = false, restart_ = true, threads_changed_ = false, camera_changed_ = false, new_frame_ = false;
   Options pending_;
   CameraKey pending_camera_;
