@@ -33,6 +33,9 @@ Options viewer_options(const ViewArgs& a, const Scene& scene) {
 
 namespace {
 
+// Thrown from the progress callback to cut a frame short (Session::abort_).
+struct FrameAborted {};
+
 Camera initial_camera(const Scene& scene) {
   Camera c = scene.camera;
   if (c.keys.empty()) c.keys.push_back(CameraKey{});
@@ -74,6 +77,7 @@ void Session::stop() {
   {
     std::lock_guard lk(m_);
     quit_ = true;
+    abort_ = true;
   }
   cv_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -91,6 +95,7 @@ void Session::push_restart() {
     std::lock_guard lk(m_);
     pending_ = effective_options();
     restart_ = true;
+    abort_ = true;  // the frame being rendered is of the old options: drop it
   }
   cv_.notify_all();
 }
@@ -167,6 +172,7 @@ void Session::play_camera_path() {
     play_index_ = 0;
     pending_ = effective_options();
     restart_ = true;  // from frame 0 with no history, as `restir render` starts
+    abort_ = true;
   }
   cv_.notify_all();
 }
@@ -310,6 +316,7 @@ void Session::worker() {
       cv_.wait(lk, [&] { return quit_ || (!paused_ && error_.empty() && (budget_ < 0 || done_ < budget_)); });
       if (quit_) return;
       std::swap(restart, restart_);
+      abort_ = false;  // a change from here on aborts the frame below
       std::swap(threads, threads_changed_);
       std::swap(moved, camera_changed_);
       o = pending_;
@@ -328,7 +335,11 @@ void Session::worker() {
       else if (threads) renderer->set_threads(o.render.threads);
       if (restart || moved) accum.reset();
       StageTimes stages;
-      const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages);
+      // A restart or quit requested mid-frame ends the frame at the integrator's next progress
+      // report (a tile or a wave) instead of after it: a slow frame does not delay the change.
+      const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages, [this](int, int) {
+        if (abort_) throw FrameAborted();
+      });
       accum.add(frame);
       std::lock_guard lk(m_);
       if (worker_recording_) recorded_.push_back(path_key);
@@ -337,6 +348,10 @@ void Session::worker() {
       shared_readout_ = {ms, std::move(stages), accum.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
       new_frame_ = true;
       ++done_;
+    } catch (const FrameAborted&) {
+      // Only a pending restart or quit aborts: the next turn replaces the integrator, whose state
+      // is now half a frame's (the BVH and lights stay), or leaves.
+      continue;
     } catch (const std::exception& e) {
       std::lock_guard lk(m_);
       error_ = e.what();

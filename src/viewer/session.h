@@ -1,7 +1,7 @@
 // The viewer's state without its window: the scene, the options as the user set them, a worker
 // thread that renders frames with one persistent FrameRenderer (so ReSTIR's history carries over),
 // the progressive accumulation, the camera, and the files a session writes (screenshots, configs,
-// camera paths). The GUI (viewer/gui_*.cpp) draws it and feeds it input; the script runner drives
+// camera paths). The GUI (viewer/gui/) draws it and feeds it input; the script runner drives
 // it without a user. Threads: every public function is for the UI thread; the worker only sees
 // what they hand over under the lock.
 #pragma once
@@ -127,6 +127,7 @@ class Session {
   mutable std::mutex m_;
   mutable std::condition_variable cv_;     // the worker waits on it for work
   mutable std::condition_variable done_cv_;  // script mode waits on it for frames
+  std::atomic<bool> abort_{false};  // cut the frame being rendered (a restart or quit is pending)
   bool quit_ = false, restart_ = true, threads_changed_ = false, camera_changed_ = false, new_frame_ = false;
   Options pending_;
   CameraKey pending_camera_;

@@ -33,6 +33,14 @@ namespace {
 
 constexpr float kPanelWidth = 420;
 
+// Window state the GLFW callbacks (plain functions) write.
+std::string glfw_error = "unknown reason";
+bool glfw_open = false;
+bool input_events = false;  // set by the window's input callbacks, cleared by ui_iteration
+// F12 and Ctrl+Q as they are pressed: ImGui 1.86 polls key state once a frame and misses a press
+// and release that arrive together (as from xdotool).
+bool key_screenshot = false, key_quit = false;
+
 double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 bool same(const OutputOptions& a, const OutputOptions& b) {
@@ -123,7 +131,7 @@ void camera_input(Gui& g, double dt) {
       g.session.set_paused(g.paused);
     }
     if (glfwGetKey(g.window, GLFW_KEY_R) == GLFW_PRESS && !io.WantTextInput) cam.reset(), moved = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) {
+    if (std::exchange(key_screenshot, false)) {
       try {
         g.save_screenshot(g.screenshot_path);
         g.say(std::string("saved ") + g.screenshot_path + ".exr/.png/.json");
@@ -131,7 +139,7 @@ void camera_input(Gui& g, double dt) {
         g.say(e.what(), true);
       }
     }
-    if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q, false)) glfwSetWindowShouldClose(g.window, GLFW_TRUE);
+    if (std::exchange(key_quit, false)) glfwSetWindowShouldClose(g.window, GLFW_TRUE);
   }
   if (moved) g.session.camera_moved();
 }
@@ -189,9 +197,6 @@ void draw_frame(Gui& g, double dt, bool interactive) {
   ++g.cost.draws;
 }
 
-std::string glfw_error = "unknown reason";
-bool glfw_open = false;
-bool input_events = false;  // set by the window's input callbacks, cleared by ui_iteration
 
 // The window, its GL context and ImGui, released in reverse order.
 struct Window {
@@ -224,7 +229,12 @@ struct Window {
     glfwSetCursorPosCallback(w, [](GLFWwindow*, double, double) { input_events = true; });
     glfwSetMouseButtonCallback(w, [](GLFWwindow*, int, int, int) { input_events = true; });
     glfwSetScrollCallback(w, [](GLFWwindow*, double, double) { input_events = true; });
-    glfwSetKeyCallback(w, [](GLFWwindow*, int, int, int, int) { input_events = true; });
+    glfwSetKeyCallback(w, [](GLFWwindow*, int key, int, int action, int mods) {
+      input_events = true;
+      if (action != GLFW_PRESS || ImGui::GetIO().WantTextInput) return;
+      if (key == GLFW_KEY_F12) key_screenshot = true;
+      if (key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) key_quit = true;
+    });
     glfwSetCharCallback(w, [](GLFWwindow*, unsigned) { input_events = true; });
     glfwSetWindowSizeCallback(w, [](GLFWwindow*, int, int) { input_events = true; });
     glfwSetWindowRefreshCallback(w, [](GLFWwindow*) { input_events = true; });
