@@ -120,6 +120,26 @@ TEST_SUITE("animation") {
   }
 }
 
+TEST_SUITE("animation") {
+  TEST_CASE("restir-gi and restir-pt refuse temporal reuse in an animated scene (not silently biased)") {
+    const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/moving-glossy.pbrt");
+    Options o;
+    apply_scene_hints(o, rest.hints);
+    o.film.width = 16;
+    o.film.height = 9;
+    o.render.frames = 2;
+    for (const char* integrator : {"restir-gi", "restir-pt"}) {
+      CAPTURE(integrator);
+      o.integrator = integrator;
+      CHECK_THROWS_WITH_AS(render(rest, o), doctest::Contains("animated scene"), OptionError);
+      set_option(o, integrator == std::string("restir-gi") ? "gi.temporal" : "pt.temporal", "false");
+      CHECK_NOTHROW(render(rest, o));
+    }
+    o.integrator = "restir-di";  // supported
+    CHECK_NOTHROW(render(rest, o));
+  }
+}
+
 namespace {
 // Block means (16x16 blocks: the quarters of the 32x32 film; an 8x8 block of the dark ceiling has
 // no light of its own to test) of chosen frames of K independent sequences.

@@ -191,6 +191,10 @@ class RestirGi final : public Integrator {
 std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx) {
   if (ctx.options.render.debug_view == DebugView::reconnection_depth)
     throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt");
+  // As restir-pt (see make_restir_pt): the history's sample points would need to move with the geometry.
+  if (scene_animated(ctx.scene) && ctx.options.gi.reuse.temporal)
+    throw OptionError("restir-gi: temporal reuse in an animated scene is not supported yet (restir-di supports it): set "
+                      "gi.temporal=false");
   return std::make_unique<RestirGi>(ctx);
 }
 

@@ -133,6 +133,15 @@ class RestirPt final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) { return std::make_unique<RestirPt>(ctx); }
+std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
+  // Paths reused from the previous frame would need their vertices carried with the moving
+  // geometry and their targets evaluated in the previous frame's scene (issue 11; done for ReSTIR
+  // DI): until then an animated scene's temporal reuse would be silently biased, so it is refused.
+  const Options& o = ctx.options;
+  if (scene_animated(ctx.scene) && (o.pt.reuse.temporal || (o.pt.direct == DirectLighting::restir_di && o.di.reuse.temporal)))
+    throw OptionError("restir-pt: temporal reuse in an animated scene is not supported yet (restir-di supports it): set "
+                      "pt.temporal=false (and di.temporal=false with pt.direct=restir-di)");
+  return std::make_unique<RestirPt>(ctx);
+}
 
 }  // namespace rl
