@@ -11,7 +11,10 @@
 
 #include "equivalence.h"
 #include "integrators/render.h"
+#include "integrators/gbuffer.h"
 #include "scene/accel.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
 #include "scene/animation.h"
 #include "scene/loader.h"
 #include "scene/scene.h"
@@ -137,6 +140,66 @@ TEST_SUITE("animation") {
     }
     o.integrator = "restir-di";  // supported
     CHECK_NOTHROW(render(rest, o));
+  }
+}
+
+TEST_SUITE("animation") {
+  TEST_CASE("motion vectors: a moving object's pixels reproject onto the same object a frame earlier") {
+    // A box sliding 0.4 per frame and turning 15 degrees per frame before a wall, a still camera:
+    // motion of ten pixels a frame, far more than a pixel's footprint.
+    fs::path d = temp_dir("mv");
+    write(d / "slide.json", R"({"pivot": [0, 0, 3], "keys": [{"frame": 0}, {"frame": 10, "translate": [4, 0, 0], "rotate": [150, 0, 1, 0]}]})");
+    write(d / "s.pbrt",
+          "LookAt 0 0 -2  0 0 5  0 1 0\nCamera \"perspective\" \"float fov\" 60\n"
+          "Film \"rgb\" \"integer xresolution\" 96 \"integer yresolution\" 96\nWorldBegin\n"
+          "LightSource \"infinite\" \"rgb L\" [1 1 1]\n"
+          "Shape \"trianglemesh\" \"point3 P\" [-9 -9 6  9 -9 6  9 9 6  -9 9 6] \"integer indices\" [0 1 2 0 2 3]\n"
+          "AttributeBegin\n  Attribute \"shape\" \"string animation\" \"slide.json\"\n  Translate -2 0 3\n"
+          "  Shape \"trianglemesh\" \"point3 P\" [-0.5 -0.5 -0.5  0.5 -0.5 -0.5  0.5 0.5 -0.5  -0.5 0.5 -0.5  "
+          "-0.5 -0.5 0.5  0.5 -0.5 0.5  0.5 0.5 0.5  -0.5 0.5 0.5]\n"
+          "    \"integer indices\" [0 1 2 0 2 3  4 6 5 4 7 6  0 4 5 0 5 1  3 2 6 3 6 7  0 3 7 0 7 4  1 5 6 1 6 2]\n"
+          "AttributeEnd\n");
+    const Scene rest = load_scene((d / "s.pbrt").string());
+    Options o;
+    apply_scene_hints(o, rest.hints);
+    const PerspectiveCamera cam(rest.camera.at_frame(0, 1), o.film.width, o.film.height);
+    auto gbuffer_at = [&](int frame, Scene& s, GBuffer& g) {
+      animate_scene(rest, frame, s);
+      Accel accel(s);
+      Lights lights(s, o.render.light_selection);
+      RenderContext ctx{s, accel, lights, o};
+      build_gbuffer(ctx, cam, frame, 0, g);
+    };
+    Scene s5, s6;
+    GBuffer g5, g6;
+    gbuffer_at(5, s5, g5);
+    gbuffer_at(6, s6, g6);
+    // For each pixel on the moving box: how far the point the previous frame shows at the
+    // reprojected pixel lies from where this point was then (p_previous), reprojecting with the
+    // motion vector or by the camera alone. Medians over the pixels.
+    std::vector<float> with_mv, camera_only;
+    for (const GSurface& cur : g6.pixels) {
+      if (!cur.valid || length(cur.p_previous - cur.p) < 1e-4f) continue;  // static geometry
+      auto miss = [&](Vec3 p) {
+        int x, y;
+        return reproject(cam, p, x, y) && g5.at(x, y).valid ? length(g5.at(x, y).p - cur.p_previous) : 1e9f;
+      };
+      with_mv.push_back(miss(cur.p_previous));
+      camera_only.push_back(miss(cur.p));
+    }
+    auto median = [](std::vector<float> v) {
+      std::sort(v.begin(), v.end());
+      return v.empty() ? 0.0f : v[v.size() / 2];
+    };
+    const float m_mv = median(with_mv), m_cam = median(camera_only);
+    const std::string what = std::to_string(with_mv.size()) + " pixels on the moving box; median distance to the "
+                             "point's previous position: with motion vectors " + std::to_string(m_mv) +
+                             ", by the camera alone " + std::to_string(m_cam);
+    MESSAGE(what);
+    CHECK(with_mv.size() > 100);
+    CHECK(m_mv < 0.05f);  // about a pixel's footprint
+    CHECK(m_mv < 0.2f * m_cam);
+    fs::remove_all(d);
   }
 }
 

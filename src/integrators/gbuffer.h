@@ -19,6 +19,9 @@ struct GSurface {
   Bsdf bsdf;
   Rgb emitted{0};       // emission leaving the hit toward the camera
   Rgb background{0};    // environment radiance when the ray escaped (valid == false)
+  // Where this point and its shading normal were one frame earlier: moved back with its object's
+  // animation (the motion vector of an animated scene); p and ns for static geometry.
+  Vec3 p_previous, ns_previous;
 };
 
 struct GBuffer {
@@ -27,8 +30,12 @@ struct GBuffer {
   const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// The G-buffer entry of a primary ray and its closest hit (null: it escaped).
-void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s);
+// The G-buffer entry of a primary ray and its closest hit (null: it escaped). back[a] (optional,
+// one per scene animation) maps a point of animation a's objects to where it was a frame earlier.
+void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s,
+                   const std::vector<Mat4>* back = nullptr);
+// Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
+std::vector<Mat4> motion_back(const Scene& scene, int frame);
 
 // One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter).
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);

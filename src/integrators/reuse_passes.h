@@ -70,13 +70,17 @@ void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& prev
     if (!cur.valid) return;
     ++dbg.tried[p];
     int px, py;
-    if (!reproject(previous_camera, cur.p, px, py)) {
+    // Motion vector: where the point was a frame earlier (its object's animation), seen by the
+    // previous camera.
+    if (!reproject(previous_camera, cur.p_previous, px, py)) {
       ++dbg.rejected[p];
       return;
     }
     const GSurface& prev = previous_g.at(px, py);
     GSurface expected = cur;  // the current point as the previous camera saw it
-    expected.depth = length(cur.p - previous_camera.position());
+    expected.p = cur.p_previous;
+    expected.ns = cur.ns_previous;
+    expected.depth = length(cur.p_previous - previous_camera.position());
     // Depth / normal rejection only when asked for (*.similarity_rejection), as in the spatial pass.
     if (!prev.valid || (rp.similarity_rejection && !similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold))) {
       ++dbg.rejected[p];
