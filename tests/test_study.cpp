@@ -358,6 +358,19 @@ TEST_SUITE("study") {
     CHECK(error_of(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"scene": "x"}}])")) == "");
     CHECK(error_of(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"render.sp": 1}}])")).find("render.sp") !=
           std::string::npos);
+    // "where" values are compared as the rows print them: 2.0 and "2" are the same spp.
+    const Study st = parse_study(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"render.spp": 2.0, "film.filter_radius": 1.50}}])"),
+                                 "/tmp/where.json", false);
+    REQUIRE(st.plots.size() == 1);
+    REQUIRE(st.plots[0].where.size() == 2);
+    std::map<std::string, std::string> where(st.plots[0].where.begin(), st.plots[0].where.end());
+    CHECK(where["render.spp"] == "2");
+    Options o;
+    o.film.filter_radius = 1.5f;
+    for (const auto& [k, v] : option_values(o))
+      if (k == "film.filter_radius") CHECK(where["film.filter_radius"] == v);
+    CHECK(error_of(study_json(R"("plots": [{"x": "ms_median", "y": "fps", "where": {"render.spp": "many"}}])")).find("where") !=
+          std::string::npos);
   }
 
   TEST_CASE("a series key 'a+b' gives one series per pair of values") {

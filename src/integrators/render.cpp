@@ -46,9 +46,6 @@ void draw_progress(int frame, int frames, int done, int total, double elapsed_s)
                width - filled, "", int(f * 100), frame + 1, frames, eta);
   std::fflush(stderr);
 }
-// The one non-finite policy of every integrator: they never zero a NaN or infinity (the ReSTIR
-// ones turn a non-finite target into a non-finite pixel, see mark_non_finite); the driver stops
-// the render with the count and the first pixel.
 // An animated scene at frame 0, still animated (animate_scene copies everything on first use).
 Scene scene_at_frame_keeping_animation(const Scene& rest) {
   Scene s;
@@ -56,6 +53,9 @@ Scene scene_at_frame_keeping_animation(const Scene& rest) {
   return s;
 }
 
+// The one non-finite policy of every integrator: they never zero a NaN or infinity (the ReSTIR
+// ones turn a non-finite target into a non-finite pixel, see mark_non_finite); the driver stops
+// the render with the count and the first pixel.
 void check_finite(const std::string& integrator, int frame, const Image& img) {
   size_t bad = 0, first = 0;
   for (size_t i = 0; i < img.size(); ++i)
@@ -118,8 +118,9 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
     StageTimer timer(stages, "animate");
     animate_scene(rest_, frame_, animated_);
     accel_->update();
+    Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were
     previous_lights_ = std::make_unique<Lights>(std::move(*lights_));
-    *lights_ = Lights(scene_, o_.render.light_selection);
+    *lights_ = std::move(next);
   }
   PerspectiveCamera cam(key, o_.film.width, o_.film.height);
   FrameInfo info;

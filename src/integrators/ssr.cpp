@@ -6,7 +6,7 @@
 //   2. surfaces whose roughness is at most ssr.roughness_cutoff take their reflected light from
 //      the screen instead: ssr.rays directions drawn from the BSDF (GGX importance sampling of the
 //      visible normals for glossy lobes, the mirror direction for smooth ones), each marched through
-//      the depth buffer (screen_march) and weighted f |cos| / pdf; a hit returns the lit colour of
+//      the depth buffer (march_hiz / march_linear) and weighted f |cos| / pdf; a hit returns the lit colour of
 //      the pixel it lands on, a miss the environment (ssr.fallback = environment) or nothing.
 //   3. the resolve (Stachowiak 2015, "Stochastic screen-space reflections", SIGGRAPH Advances in
 //      Real-Time Rendering): a glossy pixel also reuses the rays its neighbours traced, each
@@ -84,13 +84,14 @@ class Ssr final : public Integrator {
     g_.width = w;
     g_.height = h;
     g_.pixels.resize(rays_.size());
+    const std::vector<Mat4> back = motion_back(ctx_.scene, frame.index);  // motion vectors (temporal)
     parallel_for(h, [&](int y) {
       const size_t row = size_t(y) * size_t(w);
       for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
       const auto rays = std::span<const Ray>(rays_).subspan(row, size_t(w));
       ctx_.accel.intersect(rays, std::span(hits_).subspan(row, size_t(w)), true);
       for (size_t i = row; i < row + size_t(w); ++i)
-        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i]);
+        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back);
     });
     hiz_.build(*frame.camera, g_);
   }
@@ -207,25 +208,79 @@ class Ssr final : public Integrator {
   }
 
   // ssr.temporal: blend the reflective pixels with the previous frame's where the reprojected
-  // surface is the same (depth and normal), then keep this frame as the history.
+  // surface is the same (depth and normal) and the history's colour is within this frame's
+  // neighbourhood range, then keep this frame as the history.
   void temporal(const FrameInfo& frame, Image& out) {
     StageTimer timer(frame.stages, "temporal");
     const float alpha = ctx_.options.ssr.temporal_alpha;
+    current_ = out.pixels;
     if (frame.previous_camera && history_.size() == out.size()) {
       parallel_for_pixels(g_.width, g_.height, [&](int x, int y) {
         const size_t p = size_t(y) * size_t(g_.width) + size_t(x);
         const GSurface& sf = g_.pixels[p];
-        int px, py;
-        if (!reflective(sf) || !reproject(*frame.previous_camera, sf.p, px, py)) return;
-        const size_t q = size_t(py) * size_t(g_.width) + size_t(px);
-        if (!reflective(previous_g_.pixels[q]) ||
-            !similar_surfaces(sf, previous_g_.pixels[q], kResolveDepth, kResolveNormalDeg))
-          return;
-        out.pixels[p] = history_[q] + (out.pixels[p] - history_[q]) * alpha;
+        if (!reflective(sf)) return;
+        // Where the previous frame showed this reflection: a reflection moves with its virtual
+        // image -- the reflected point seen through the surface, the view ray extended by the
+        // rays' hit distance -- not with the surface (parallax-corrected reprojection, as in
+        // Stachowiak 2015). The reflector must be the same surface there (normals agree, and it
+        // lies on this one's tangent plane).
+        // Through the pixel's centre, not its jittered sample, so that a still camera finds the
+        // same pixel and a moving one filters the same way whatever the jitter.
+        const Vec3 cam = frame.camera->position();
+        const Vec3 view = frame.camera->generate_ray({float(x) + 0.5f, float(y) + 0.5f}).d;
+        const Vec3 virtual_point = cam + view * (length(sf.p - cam) + reflection_distance(p));
+        const Vec3 moved = sf.p_previous + (virtual_point - sf.p);  // with the reflector's own motion
+        // The history there, filtered bilinearly over the previous pixels that show this reflector
+        // (a nearest-pixel fetch under motion aliases: its choice of pixel jumps with the jitter).
+        Vec2 r;
+        if (!frame.previous_camera->project(moved, r)) return;
+        const float fx = r.x - 0.5f, fy = r.y - 0.5f;
+        const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+        Rgb history(0);
+        float weight = 0;
+        for (int k = 0; k < 4; ++k) {
+          const int hx = x0 + (k & 1), hy = y0 + (k >> 1);
+          if (hx < 0 || hy < 0 || hx >= g_.width || hy >= g_.height) continue;
+          const size_t q = size_t(hy) * size_t(g_.width) + size_t(hx);
+          const GSurface& before = previous_g_.pixels[q];
+          if (!reflective(before) || dot(before.ns, sf.ns_previous) < std::cos(kResolveNormalDeg * kPi / 180.0f) ||
+              std::fabs(dot(before.p - sf.p_previous, sf.ns_previous)) > 0.02f * before.depth)  // on this reflector's plane
+            continue;
+          const float w = ((k & 1) ? fx - float(x0) : 1 - (fx - float(x0))) * ((k >> 1) ? fy - float(y0) : 1 - (fy - float(y0)));
+          history += history_[q] * w;
+          weight += w;
+        }
+        if (!(weight > 1e-3f)) return;
+        history /= weight;
+        // Neighbourhood clamping (Karis 2014, "High-quality temporal supersampling"): the history
+        // is clamped to the colour range of this frame's 3x3 neighbourhood, so that what the
+        // reflection showed a frame ago (before the view or the objects moved) cannot linger.
+        Rgb lo(kInfinity), hi(-kInfinity);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = std::clamp(x + dx, 0, g_.width - 1), ny = std::clamp(y + dy, 0, g_.height - 1);
+            const Rgb c = current_[size_t(ny) * size_t(g_.width) + size_t(nx)];
+            lo = min(lo, c);
+            hi = max(hi, c);
+          }
+        const Rgb h = max(lo, min(hi, history));
+        out.pixels[p] = h + (current_[p] - h) * alpha;
       });
     }
     history_ = out.pixels;
     previous_g_ = g_;
+  }
+
+  // Mean distance from pixel p's surface to where its reflection rays landed (the scene's extent
+  // when none landed: the reflection of something far away, e.g. the sky).
+  float reflection_distance(size_t p) const {
+    const size_t rays = size_t(ctx_.options.ssr.rays);
+    const Vec3 at = g_.pixels[p].p;
+    float sum = 0;
+    int n = 0;
+    for (size_t i = 0; i < rays; ++i)
+      if (traced_[p * rays + i].hit) sum += length(traced_[p * rays + i].hit_p - at), ++n;
+    return n > 0 ? sum / float(n) : extent_;
   }
 
   RenderContext ctx_;
@@ -235,7 +290,7 @@ class Ssr final : public Integrator {
   std::vector<Hit> hits_;
   GBuffer g_, previous_g_;
   HiZPyramid hiz_;
-  std::vector<Rgb> lit_, sum_, history_;
+  std::vector<Rgb> lit_, sum_, history_, current_;
   std::vector<ReflectionRay> traced_;
 };
 

@@ -29,8 +29,13 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
   impl_->device = rtcNewDevice("threads=0");  // Embree builds with TBB's arena, no threads of its own
   if (!impl_->device) throw std::runtime_error("cannot create the Embree device");
   impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-  if (scene_animated(scene)) rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_DYNAMIC);
+  // An animated scene gets Embree's two-level structure (scene quality LOW), in which each
+  // geometry has its own BVH built at its own quality: HIGH for what stands still, REFIT for what
+  // moves, so that update() refits the moving geometries and rebuilds only the small top level.
+  // (Embree uses per-geometry qualities only under a LOW scene quality.)
+  const bool animated = scene_animated(scene);
+  rtcSetSceneBuildQuality(impl_->scene, animated ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
+  if (animated) rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_DYNAMIC);
 
   Bounds3 b;
   for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
@@ -49,7 +54,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
     unsigned* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                   3 * sizeof(unsigned), m.triangle_count()));
     std::copy(m.indices.begin(), m.indices.end(), ib);
-    if (m.animation >= 0) rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);  // rigid motion keeps the topology
+    if (animated) rtcSetGeometryBuildQuality(g, m.animation >= 0 ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_HIGH);
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(impl_->scene, g);
     rtcReleaseGeometry(g);
@@ -75,7 +80,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the BVH");
-  animated_ = scene_animated(scene);
+  animated_ = animated;
   if (!b.empty()) {
     float extent = std::max(max_component(max(b.hi, -b.lo)), max_component(b.diagonal()));
     epsilon_ = std::max(1e-5f * extent, 1e-6f);

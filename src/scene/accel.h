@@ -39,7 +39,7 @@ class Accel {
   Accel& operator=(const Accel&) = delete;
 
   // After animate_scene() moved the scene this Accel was built from (same meshes and spheres):
-  // re-reads the animated ones and refits their BVHs (Embree's REFIT quality). Not thread-safe.
+  // re-reads the animated ones, refits their BVHs and rebuilds the top level. Not thread-safe.
   void update();
 
   // Closest hit in (ray.tmin, ray.tmax). Thread-safe.

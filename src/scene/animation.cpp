@@ -97,22 +97,26 @@ AnimationKey parse_key(const nlohmann::json& k, size_t index) {
   AnimationKey key;
   if (!k.contains("frame") || !k["frame"].is_number_integer() || k["frame"].get<long long>() < 0 ||
       k["frame"].get<long long>() > 100000000)
-    throw std::runtime_error(where + ".frame must be an integer frame number >= 0");
+    throw std::runtime_error(where + ".frame must be an integer frame number in [0, 1e8]");
   key.frame = int(k["frame"].get<long long>());
   if (k.contains("translate")) key.translate = json_vec3(k["translate"], where + ".translate");
   if (k.contains("rotate")) {
     const auto& r = k["rotate"];
     if (!r.is_array() || r.size() != 4 || !std::all_of(r.begin(), r.end(), [](const auto& x) { return x.is_number(); }))
       throw std::runtime_error(where + ".rotate must be [degrees, axis x, axis y, axis z]");
-    key.angle_degrees = r[0].get<float>();
-    key.axis = {r[1].get<float>(), r[2].get<float>(), r[3].get<float>()};
-    if (!std::isfinite(key.angle_degrees) || !(length(key.axis) > 0) || !std::isfinite(length(key.axis)))
-      throw std::runtime_error(where + ".rotate needs a finite angle and a non-zero axis");
+    double v[4];
+    for (size_t i = 0; i < 4; ++i) {
+      v[i] = r[i].get<double>();  // checked as a double: a float cast of 1e300 is undefined
+      if (!(std::fabs(v[i]) <= 1e6)) throw std::runtime_error(where + ".rotate: each number must lie in [-1e6, 1e6]");
+    }
+    key.angle_degrees = float(v[0]);
+    key.axis = {float(v[1]), float(v[2]), float(v[3])};
+    if (!(length(key.axis) > 1e-12f)) throw std::runtime_error(where + ".rotate needs a non-zero axis");
   }
   if (k.contains("intensity")) {
     if (!k["intensity"].is_number() || !(k["intensity"].get<double>() >= 0) || !(k["intensity"].get<double>() <= 1e6))
       throw std::runtime_error(where + ".intensity must be a number in [0, 1e6]");
-    key.intensity = k["intensity"].get<float>();
+    key.intensity = float(k["intensity"].get<double>());
   }
   return key;
 }

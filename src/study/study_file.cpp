@@ -189,6 +189,70 @@ std::vector<std::string> metric_columns(const Study& s) {
   return c;
 }
 
+namespace {
+bool is_option_key(const std::string& k) {
+  Options o;
+  OptionPrinter pr;
+  visit_options(o, pr);
+  return std::any_of(pr.out.begin(), pr.out.end(), [&](const auto& kv) { return kv.first == k; });
+}
+
+// "a+b" keys of a plot's x / series / where: option keys, "frame", "scene" or "seed".
+void check_plot_keys(const std::string& joined, const std::string& plot, const std::string& path) {
+  std::stringstream parts(joined);
+  std::string k;
+  while (std::getline(parts, k, '+'))
+    if (k != "frame" && k != "scene" && k != "seed" && !is_option_key(k))
+      fail(path, fmt::format("plot '{}': '{}' is not an option key, \"frame\", \"scene\" or \"seed\"", plot, k));
+}
+
+// A "where" value as the result rows print it (option_values' text), so that 1.0 matches "1".
+std::string where_value(const std::string& key, const json& v, const std::string& plot, const std::string& path) {
+  const std::string text = value_text(v, path, "where." + key);
+  if (key == "frame" || key == "scene" || key == "seed") return text;
+  Options o;
+  try {
+    set_option(o, key, text);
+  } catch (const OptionError& e) {
+    fail(path, fmt::format("plot '{}': where '{}': {}", plot, key, e.what()));
+  }
+  for (const auto& [k, value] : option_values(o))
+    if (k == key) return value;
+  return text;
+}
+
+PlotSpec parse_plot(const json& p, const std::string& path, const std::vector<std::string>& cols) {
+  check_keys(p, {"name", "title", "x", "y", "series", "logx", "logy", "where"}, path, "plot");
+  PlotSpec ps;
+  if (!p.contains("x") || !p.contains("y")) fail(path, "every plot needs \"x\" and \"y\"");
+  ps.x = p["x"].get<std::string>();
+  ps.y = p["y"].get<std::string>();
+  if (p.contains("series")) ps.series = p["series"].get<std::string>();
+  ps.logx = p.value("logx", false);
+  ps.logy = p.value("logy", false);
+  ps.name = p.value("name", ps.y + "-vs-" + ps.x);
+  for (char& c : ps.name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '-';
+  // A name starting with '-' reads as an option to gnuplot and the shell (the plot was silently lost).
+  if (ps.name.empty() || ps.name[0] == '-')
+    fail(path, fmt::format("plot name '{}' must start with a letter, digit or '_'", p.value("name", ps.name)));
+  ps.title = p.value("title", ps.y + " vs " + ps.x);
+  if (std::find(cols.begin(), cols.end(), ps.y) == cols.end())
+    fail(path, fmt::format("plot '{}': y '{}' is not a metric column of this study", ps.name, ps.y));
+  ps.x_metric = std::find(cols.begin(), cols.end(), ps.x) != cols.end();  // x a metric: the equal-time view
+  if (!ps.x_metric) check_plot_keys(ps.x, ps.name, path);
+  check_plot_keys(ps.series, ps.name, path);
+  if (p.contains("where")) {
+    if (!p["where"].is_object()) fail(path, fmt::format("plot '{}': \"where\" must be an object of key: value", ps.name));
+    for (const auto& [k, v] : p["where"].items()) {
+      check_plot_keys(k, ps.name, path);
+      ps.where.emplace_back(k, where_value(k, v, ps.name, path));
+    }
+  }
+  return ps;
+}
+}  // namespace
+
 Study parse_study(const std::string& text, const std::string& path, bool quick) {
   json j;
   try {
@@ -244,50 +308,8 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
   if (j.contains("plots")) {
     if (!j["plots"].is_array()) fail(path, "\"plots\" must be a list");
     std::set<std::string> names;
-    const auto cols = metric_columns(s);
     for (const auto& p : j["plots"]) {
-      check_keys(p, {"name", "title", "x", "y", "series", "logx", "logy", "where"}, path, "plot");
-      PlotSpec ps;
-      if (!p.contains("x") || !p.contains("y")) fail(path, "every plot needs \"x\" and \"y\"");
-      ps.x = p["x"].get<std::string>();
-      ps.y = p["y"].get<std::string>();
-      if (p.contains("series")) ps.series = p["series"].get<std::string>();
-      ps.logx = p.value("logx", false);
-      ps.logy = p.value("logy", false);
-      ps.name = p.value("name", ps.y + "-vs-" + ps.x);
-      for (char& c : ps.name)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '-';
-      // A name starting with '-' reads as an option to gnuplot and the shell (the plot was silently lost).
-      if (ps.name.empty() || ps.name[0] == '-')
-        fail(path, fmt::format("plot name '{}' must start with a letter, digit or '_'", p.value("name", ps.name)));
-      ps.title = p.value("title", ps.y + " vs " + ps.x);
-      if (std::find(cols.begin(), cols.end(), ps.y) == cols.end())
-        fail(path, fmt::format("plot '{}': y '{}' is not a metric column of this study", ps.name, ps.y));
-      ps.x_metric = std::find(cols.begin(), cols.end(), ps.x) != cols.end();
-      if (p.contains("where")) {
-        if (!p["where"].is_object()) fail(path, fmt::format("plot '{}': \"where\" must be an object of key: value", ps.name));
-        for (const auto& [k, v] : p["where"].items()) {
-          if (!v.is_string() && !v.is_number() && !v.is_boolean())
-            fail(path, fmt::format("plot '{}': where '{}' must be a string, number or bool", ps.name, k));
-          ps.where.emplace_back(k, v.is_string() ? v.get<std::string>() : v.dump());
-        }
-      }
-      std::vector<std::string> keys{ps.series};
-      if (!ps.x_metric) keys.push_back(ps.x);
-      for (const auto& [k, v] : ps.where) keys.push_back(k);
-      for (const std::string& joined : keys) {
-        std::stringstream parts(joined);
-        std::string k;
-        while (std::getline(parts, k, '+')) {  // "a+b": one series per pair of values
-          if (k == "frame" || k == "scene" || k == "seed") continue;
-          Options o;
-          OptionPrinter pr;
-          visit_options(o, pr);
-          if (std::none_of(pr.out.begin(), pr.out.end(), [&](const auto& kv) { return kv.first == k; }))
-            fail(path, fmt::format("plot '{}': '{}' is not an option key, a metric column, \"frame\", \"scene\" or \"seed\"",
-                                   ps.name, k));
-        }
-      }
+      PlotSpec ps = parse_plot(p, path, metric_columns(s));
       if (!names.insert(ps.name).second) fail(path, fmt::format("two plots named '{}'", ps.name));
       s.plots.push_back(ps);
     }
