@@ -227,6 +227,10 @@ TEST_SUITE("ssr") {
     }
   }
 
+}
+
+// Noise over seeds: statistical, labelled slow.
+TEST_SUITE("slow_ssr") {
   TEST_CASE("the resolve lowers the noise of glossy reflections and leaves mirrors alone") {
     // Glossy pixels of the teapot table (roughness 0.02-0.3): the variance over seeds of one
     // frame, resolve with 4 neighbours vs the pixel's own ray; the means within a few percent.
