@@ -8,6 +8,10 @@
 # Exit 77 (CTest: skipped) when the build has no viewer or xvfb-run is missing.
 #   tests/viewer_script.sh RESTIR_BINARY
 set -euo pipefail
+# Under AddressSanitizer: Mesa's DRI driver (dlopen'ed, unloaded at exit) leaks a few hundred bytes
+# that LeakSanitizer cannot attribute (<unknown module>); the viewer's own code is leak-checked by
+# the headless doctest suite `viewer`. The rest of ASan stays on. (No effect on other builds.)
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 restir="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"  # absolute: a part of the test runs in another folder
 root="$(cd "$(dirname "$0")/.." && pwd)"
 scene="$root/scenes/cornell-box.pbrt"
