@@ -36,7 +36,7 @@ struct FrameInfo {
   const PerspectiveCamera* camera = nullptr;
   const PerspectiveCamera* previous_camera = nullptr;  // null on the first frame
   // An animated scene's lights as they were one frame earlier (Lights::follow carries history
-  // samples to where their emitters moved); null when the scene is static or on the first frame.
+  // samples to where their emitters moved); null when no light moves or on the first frame.
   const Lights* previous_lights = nullptr;
   std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
   StageTimes* stages = nullptr;                        // where the integrator records its stages' wall time; may be null

@@ -116,11 +116,13 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
   const auto t0 = std::chrono::steady_clock::now();  // the frame's time includes moving the scene
   if (&scene_ == &animated_) {  // move the scene to this frame; the BVH and lights follow
     StageTimer timer(stages, "animate");
-    animate_scene(rest_, frame_, animated_);
+    animate_scene(rest_, frame_, animated_);  // (the lights, when they move, are rebuilt below)
     accel_->update();
-    Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were
-    previous_lights_ = std::make_unique<Lights>(std::move(*lights_));
-    *lights_ = std::move(next);
+    if (lights_animated(rest_)) {  // static lights (only objects move) keep their tables
+      Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were
+      previous_lights_ = std::make_unique<Lights>(std::move(*lights_));
+      *lights_ = std::move(next);
+    }
   }
   PerspectiveCamera cam(key, o_.film.width, o_.film.height);
   FrameInfo info;

@@ -55,7 +55,7 @@ class FrameRenderer {
   // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
   // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
   // for reprojection. An animated scene is first moved to that frame (its BVH refitted, its
-  // lights rebuilt). Throws RenderError when a pixel is not finite. Returns the wall time in ms.
+  // lights rebuilt if they move). Throws RenderError when a pixel is not finite. Returns the wall time in ms.
   double render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
                       const std::function<void(int, int)>& progress = {});
   // A new worker thread count (render.threads); the integrator and its history stay.
@@ -73,7 +73,7 @@ class FrameRenderer {
   Options o_;  // the integrator's RenderContext refers to it: the object never moves
   std::unique_ptr<Accel> accel_;
   std::unique_ptr<Lights> lights_;
-  std::unique_ptr<Lights> previous_lights_;  // an animated scene's lights one frame earlier
+  std::unique_ptr<Lights> previous_lights_;  // lights that move: as they were one frame earlier
   std::unique_ptr<ThreadLimit> limit_;
   std::unique_ptr<Integrator> integrator_;
   std::optional<PerspectiveCamera> previous_;

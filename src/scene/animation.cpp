@@ -181,6 +181,15 @@ bool scene_animated(const Scene& s) {
   return any(s.meshes) || any(s.spheres) || any(s.point_lights) || (s.environment && s.environment->animation >= 0);
 }
 
+bool lights_animated(const Scene& s) {
+  auto any = [](const auto& v) {
+    return std::any_of(v.begin(), v.end(), [](const auto& x) { return x.animation >= 0 && x.emission.has_value(); });
+  };
+  return any(s.meshes) || any(s.spheres) ||
+         std::any_of(s.point_lights.begin(), s.point_lights.end(), [](const PointLight& l) { return l.animation >= 0; }) ||
+         (s.environment && s.environment->animation >= 0);
+}
+
 void animate_scene(const Scene& rest, int frame, Scene& out) {
   if (out.meshes.size() != rest.meshes.size() || out.spheres.size() != rest.spheres.size() ||
       out.point_lights.size() != rest.point_lights.size() || out.environment.has_value() != rest.environment.has_value())

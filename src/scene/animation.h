@@ -47,6 +47,8 @@ Animation load_animation(const std::string& path);
 
 // True when anything in the scene is animated (shapes, lights).
 bool scene_animated(const Scene& rest);
+// True when an emitter moves or changes: an animated emissive shape, point light or environment.
+bool lights_animated(const Scene& rest);
 
 // The scene at frame f of the sequence: `out` becomes `rest` with every animated shape and light
 // moved and scaled. Static parts are copied unchanged, so frame f of a static scene equals rest.
