@@ -114,9 +114,10 @@ void FrameRenderer::set_threads(int threads) {
 double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
                                    const std::function<void(int, int)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();  // the frame's time includes moving the scene
-  if (&scene_ == &animated_) {  // move the scene to this frame; the BVH and lights follow
+  if (&scene_ == &animated_ && shown_frame_ != frame_) {  // move the scene to this frame; the BVH and lights follow
     StageTimer timer(stages, "animate");
     animate_scene(rest_, frame_, animated_);  // (the lights, when they move, are rebuilt below)
+    shown_frame_ = frame_;
     accel_->update();
     if (lights_animated(rest_)) {  // static lights (only objects move) keep their tables
       Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were

@@ -78,6 +78,7 @@ class FrameRenderer {
   std::unique_ptr<Integrator> integrator_;
   std::optional<PerspectiveCamera> previous_;
   int frame_ = 0;
+  int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction
 };
 
 // Renders o.render.frames frames. Throws OptionError / RenderError / std::runtime_error.
