@@ -1,12 +1,17 @@
-// Small vector / matrix math shared by every module. Plain structs, no dependencies, usable from
-// host code today and device code later (RESTIR_HD marks functions for a future GPU build).
+// Small vector / matrix math shared by every module. Plain structs, no dependencies, compiled for
+// the host and, in the CUDA backend (src/backends/cuda), for the device: RESTIR_HD marks every
+// function per-sample code may call (ARCHITECTURE.md, "Backends").
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 
 #ifndef RESTIR_HD
+#ifdef __CUDACC__
+#define RESTIR_HD __host__ __device__
+#else
 #define RESTIR_HD
+#endif
 #endif
 
 namespace rl {
@@ -19,7 +24,7 @@ inline constexpr float kInfinity = 1e30f;  // a finite "infinity": stays well-de
 
 struct Vec2 {
   float x = 0, y = 0;
-  RESTIR_HD constexpr Vec2() = default;
+  constexpr Vec2() = default;
   RESTIR_HD constexpr Vec2(float x_, float y_) : x(x_), y(y_) {}
   RESTIR_HD constexpr float operator[](int i) const { return i == 0 ? x : y; }
 };
@@ -29,7 +34,7 @@ RESTIR_HD inline constexpr Vec2 operator*(Vec2 a, float s) { return {a.x * s, a.
 
 struct Vec3 {
   float x = 0, y = 0, z = 0;
-  RESTIR_HD constexpr Vec3() = default;
+  constexpr Vec3() = default;
   RESTIR_HD constexpr explicit Vec3(float s) : x(s), y(s), z(s) {}
   RESTIR_HD constexpr Vec3(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
   RESTIR_HD constexpr float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }

@@ -36,7 +36,7 @@ struct Pcg32 {
   uint64_t state = 0x853c49e6748fea9bULL;
   uint64_t inc = 0xda3e39cb94b95bdbULL;
 
-  RESTIR_HD Pcg32() = default;
+  Pcg32() = default;
   RESTIR_HD explicit Pcg32(uint64_t seed, uint64_t stream = 1) { seed_with(seed, stream); }
   RESTIR_HD void seed_with(uint64_t seed, uint64_t stream) {
     state = 0;

@@ -15,6 +15,8 @@
 namespace rl {
 
 enum class SamplePattern { center, stratified, halton, msaa, random };
+// Where the wavefront stages run (ARCHITECTURE.md, "Backends"): the CPU (Embree), or CUDA.
+enum class Backend { cpu, cuda };
 enum class PixelFilter { box, triangle, gaussian };
 enum class MisHeuristic { balance, power };
 // ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
@@ -35,6 +37,9 @@ template <> struct EnumNames<SamplePattern> {
   static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
       {SamplePattern::stratified, "stratified"}, {SamplePattern::halton, "halton"}, {SamplePattern::msaa, "msaa"},
       {SamplePattern::random, "random"}}};
+};
+template <> struct EnumNames<Backend> {
+  static constexpr std::array<std::pair<Backend, const char*>, 2> values{{{Backend::cpu, "cpu"}, {Backend::cuda, "cuda"}}};
 };
 template <> struct EnumNames<PixelFilter> {
   static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
@@ -89,6 +94,7 @@ struct RenderOptions {
   uint64_t seed = 0;
   int frames = 1;
   int threads = 0;
+  Backend backend = Backend::cpu;
   SamplePattern sample_pattern = SamplePattern::halton;
   LightSelection light_selection = LightSelection::power;
   std::string camera_path;
@@ -207,6 +213,9 @@ void visit_options(O& o, V& v) {
   v("render.seed", o.render.seed, "random seed; the same seed and options give the same image");
   v("render.frames", o.render.frames, "frames in the sequence (camera animation spans them)", Range{1, 100000});
   v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
+  v("render.backend", o.render.backend,
+    "where the ray queries run: cpu (Embree) or cuda (own BVH on an NVIDIA GPU; builds with -DRESTIR_CUDA=ON; pt "
+    "only so far, its shading still on the CPU)");
   v("render.sample_pattern", o.render.sample_pattern, "primary-ray positions inside a pixel");
   v("render.light_selection", o.render.light_selection, "how a light is picked: by emitted power (alias table) or uniformly");
   v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");

@@ -165,7 +165,7 @@ namespace {
 
 // The reference integrator as a wavefront (issue 9): paths advance bounce by bounce in waves of
 // kWave (pixel, sample) paths, each stage a parallel loop over a flat buffer -- camera rays, one
-// batched closest-hit query (Accel's stream API), shading (path_bounce), one batched occlusion
+// batched closest-hit query (the backend's RayQueries: Embree's stream API on the CPU), shading (path_bounce), one batched occlusion
 // query for next-event estimation, compaction of the live paths -- instead of one pixel's whole
 // path at a time. Each path keeps its own random stream and runs path_bounce, so the image equals
 // path_radiance's (tests/test_path_tracer.cpp) whatever the thread count.
@@ -229,8 +229,8 @@ class PathTracer final : public Integrator {
       StageTimer timer(frame.stages, "intersect");
       parallel_chunks(n, [&](size_t a, size_t b) {
         for (size_t k = a; k < b; ++k) rays_[k] = paths_[live_[k]].ray;
-        ctx_.accel.intersect(std::span(rays_).subspan(a, b - a), std::span(hits_).subspan(a, b - a), primary);
       });
+      ctx_.rays().intersect_batch(rays_, hits_, primary);
     }
     {
       StageTimer timer(frame.stages, "shade");
@@ -249,8 +249,8 @@ class PathTracer final : public Integrator {
           shadow_owner_.push_back(uint32_t(k));
         }
       blocked_.resize(shadow_rays_.size());
+      ctx_.rays().occluded_batch(shadow_rays_, blocked_);
       parallel_chunks(shadow_rays_.size(), [&](size_t a, size_t b) {
-        ctx_.accel.occluded(std::span(shadow_rays_).subspan(a, b - a), std::span(blocked_).subspan(a, b - a));
         for (size_t j = a; j < b; ++j)  // one shadow ray per path and bounce: no two tasks touch one path
           if (!blocked_[j]) paths_[live_[shadow_owner_[j]]].L += shadows_[shadow_owner_[j]].contribution;
       });

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "backends/cuda/cuda_queries.h"
 #include "core/parallel.h"
 #include "integrators/integrator.h"
 #include "scene/accel.h"
@@ -37,6 +38,17 @@ void apply_scene_hints(Options& o, const SceneHints& h) {
 }
 
 namespace {
+
+// render.backend's ray queries (null: the CPU backend, where the Embree Accel answers). A CUDA
+// backend missing from the build or the machine is an option error: the user asked for it.
+std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene& scene) {
+  if (backend == Backend::cpu) return nullptr;
+  try {
+    return make_cuda_queries(scene);
+  } catch (const std::runtime_error& e) {
+    throw OptionError(std::string("render.backend = cuda: ") + e.what());
+  }
+}
 void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {
   const int width = 30;
   float f = (float(frame) + float(done) / float(total)) / float(frames);
@@ -78,8 +90,13 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   validate_options(o_);
   limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
   accel_ = std::make_unique<Accel>(scene_);
+  queries_ = make_queries(o_.render.backend, scene_);
   lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
-  integrator_ = make_integrator(o_.integrator, RenderContext{scene_, *accel_, *lights_, o_, planted_});
+  integrator_ = make_integrator(o_.integrator, context());
+}
+
+RenderContext FrameRenderer::context() const {
+  return RenderContext{scene_, *accel_, *lights_, o_, planted_, queries_.get()};
 }
 
 FrameRenderer::~FrameRenderer() = default;
@@ -87,16 +104,21 @@ FrameRenderer::~FrameRenderer() = default;
 void FrameRenderer::reset(const Options& o) {
   validate_options(o);
   find_integrator(o.integrator);  // an unknown name throws before anything is replaced
+  // The new backend is made first too: a missing CUDA device throws and leaves everything as it was.
+  std::unique_ptr<RayQueries> new_queries;
+  const bool new_backend = o.render.backend != o_.render.backend;
+  if (new_backend) new_queries = make_queries(o.render.backend, scene_);
   integrator_.reset();            // it refers to o_ and the lights, replaced below
   const bool new_lights = o.render.light_selection != o_.render.light_selection;
   const bool new_limit = o.render.threads != o_.render.threads;
   o_ = o;
+  if (new_backend) queries_ = std::move(new_queries);
   if (new_limit) {
     limit_.reset();
     limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
   }
   if (new_lights) lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
-  integrator_ = make_integrator(o_.integrator, RenderContext{scene_, *accel_, *lights_, o_, planted_});
+  integrator_ = make_integrator(o_.integrator, context());
   previous_.reset();
   frame_ = 0;
 }
@@ -119,6 +141,7 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
     animate_scene(rest_, frame_, animated_);  // (the lights, when they move, are rebuilt below)
     shown_frame_ = frame_;
     accel_->update();
+    if (queries_) queries_->update();
     if (lights_animated(rest_)) {  // static lights (only objects move) keep their tables
       Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were
       previous_lights_ = std::make_unique<Lights>(std::move(*lights_));

@@ -35,6 +35,8 @@ void apply_scene_hints(Options& o, const SceneHints& hints);
 
 class Accel;
 class Lights;
+class RayQueries;
+struct RenderContext;
 class Integrator;
 class ThreadLimit;
 
@@ -50,7 +52,8 @@ class FrameRenderer {
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   // New options: a fresh integrator (no history; the next frame is frame 0); the lights are rebuilt
-  // only when the light selection changed, the BVH never (it depends on the scene alone).
+  // only when the light selection changed, the BVH never (it depends on the scene alone), the
+  // backend's ray queries when render.backend changed.
   void reset(const Options& o);
   // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
   // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
@@ -64,6 +67,7 @@ class FrameRenderer {
   int frames_rendered() const { return frame_; }
 
  private:
+  RenderContext context() const;
   const Scene& rest_;  // the scene as loaded (the rest pose of an animated scene)
   // An animated scene's current frame (animate_scene), which the BVH, the lights and the
   // integrator see; the loaded scene itself when nothing is animated.
@@ -72,6 +76,7 @@ class FrameRenderer {
   const PlantedBias* planted_;
   Options o_;  // the integrator's RenderContext refers to it: the object never moves
   std::unique_ptr<Accel> accel_;
+  std::unique_ptr<RayQueries> queries_;  // render.backend's ray queries; null for the CPU (accel_ answers)
   std::unique_ptr<Lights> lights_;
   std::unique_ptr<Lights> previous_lights_;  // lights that move: as they were one frame earlier
   std::unique_ptr<ThreadLimit> limit_;

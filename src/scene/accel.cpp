@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/parallel.h"
+
 namespace rl {
 
 struct Accel::Impl {
@@ -120,14 +122,10 @@ void Accel::update() {
 Accel::~Accel() = default;
 
 namespace {
-// The one guard in front of Embree: it asserts (RTCRay::valid) on a non-finite origin or direction,
-// an origin beyond ~1.8e18 or a negative/NaN tnear. The loaders refuse scenes that could produce
-// such rays; anything that still gets here (a NaN from a degenerate sample) hits nothing.
-bool embree_safe(const Ray& r) {
-  constexpr float kLarge = 1e18f;
-  return is_finite(r.o) && is_finite(r.d) && std::fabs(r.o.x) < kLarge && std::fabs(r.o.y) < kLarge &&
-         std::fabs(r.o.z) < kLarge && std::isfinite(r.tmin) && r.tmin >= 0 && !std::isnan(r.tmax) && r.tmax >= r.tmin;
-}
+// The one guard in front of Embree is ray_queryable (ray_queries.h): Embree asserts on rays it
+// rejects; the loaders refuse scenes that could produce such rays, and anything that still gets
+// here (a NaN from a degenerate sample) hits nothing.
+bool embree_safe(const Ray& r) { return ray_queryable(r); }
 
 constexpr size_t kStreamChunk = 256;  // rays per Embree stream call (on the stack)
 
@@ -222,6 +220,23 @@ void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool
     rtcOccluded1M(impl_->scene, &ctx, buf, unsigned(n), sizeof(RTCRay));
     for (size_t i = 0; i < n; ++i) blocked[begin + i] = safe[i] && buf[i].tfar < 0 ? 1 : 0;  // Embree: tfar = -inf on a hit
   }
+}
+
+namespace {
+constexpr size_t kBatchChunk = 256;  // rays per parallel task of a batch
+template <class Fn>
+void parallel_chunks(size_t n, const Fn& fn) {
+  parallel_for(int((n + kBatchChunk - 1) / kBatchChunk),
+               [&](int c) { fn(size_t(c) * kBatchChunk, std::min(n, size_t(c + 1) * kBatchChunk)); });
+}
+}  // namespace
+
+void Accel::intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
+  parallel_chunks(rays.size(), [&](size_t a, size_t b) { intersect(rays.subspan(a, b - a), hits.subspan(a, b - a), coherent); });
+}
+
+void Accel::occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
+  parallel_chunks(rays.size(), [&](size_t a, size_t b) { occluded(rays.subspan(a, b - a), blocked.subspan(a, b - a)); });
 }
 
 SurfaceInteraction Accel::interaction(const Ray& ray, const Hit& hit) const {

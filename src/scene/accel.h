@@ -6,19 +6,10 @@
 #include <span>
 
 #include "core/math.h"
+#include "scene/ray_queries.h"
 #include "scene/scene.h"
 
 namespace rl {
-
-inline constexpr uint32_t kInvalidId = 0xffffffffu;
-
-struct Hit {
-  float t = kInfinity;
-  uint32_t geom = kInvalidId;  // mesh index, or Accel::sphere_geom() for spheres
-  uint32_t prim = kInvalidId;  // triangle index in the mesh, or sphere index
-  float u = 0, v = 0;          // barycentrics of vertices 1 and 2 (triangles)
-  bool valid() const { return geom != kInvalidId; }
-};
 
 // Everything shading needs about a hit point.
 struct SurfaceInteraction {
@@ -31,7 +22,9 @@ struct SurfaceInteraction {
   uint32_t geom = kInvalidId, prim = kInvalidId;
 };
 
-class Accel {
+// The CPU backend's RayQueries (Embree), and the scalar queries and hit-point shading that the
+// per-pixel integrators use.
+class Accel final : public RayQueries {
  public:
   explicit Accel(const Scene& scene);
   ~Accel();
@@ -40,7 +33,7 @@ class Accel {
 
   // After animate_scene() moved the scene this Accel was built from (same meshes and spheres):
   // re-reads the animated ones, refits their BVHs and rebuilds the top level. Not thread-safe.
-  void update();
+  void update() override;
 
   // Closest hit in (ray.tmin, ray.tmax). Thread-safe.
   bool intersect(const Ray& ray, Hit& hit) const;
@@ -52,6 +45,10 @@ class Accel {
   // disjoint spans.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool coherent = false) const;
+  // RayQueries: the span queries above over parallel chunks of the batch.
+  void intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const override;
+  void occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const override;
+  const char* backend_name() const override { return "cpu"; }
   SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
   uint32_t sphere_geom() const { return uint32_t(scene_.meshes.size()); }
   const Scene& scene() const { return scene_; }

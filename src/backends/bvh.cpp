@@ -1,0 +1,177 @@
+#include "backends/bvh.h"
+
+#include <embree3/rtcore.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace rl {
+
+namespace {
+
+// The builder's own tree, allocated in Embree's thread-local arenas and flattened afterwards.
+struct BuildNode {
+  bool leaf = false;
+  BuildNode* child[2] = {nullptr, nullptr};
+  RTCBounds bounds[2]{};
+  const unsigned* prims = nullptr;  // leaf: indices into the primitive list
+  unsigned count = 0;
+};
+
+void* create_node(RTCThreadLocalAllocator alloc, unsigned int children, void*) {
+  if (children > 2) return nullptr;
+  void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16);
+  return new (mem) BuildNode();
+}
+
+void set_children(void* node, void** children, unsigned int count, void*) {
+  auto* n = static_cast<BuildNode*>(node);
+  for (unsigned i = 0; i < count && i < 2; ++i) n->child[i] = static_cast<BuildNode*>(children[i]);
+}
+
+void set_bounds(void* node, const RTCBounds** bounds, unsigned int count, void*) {
+  auto* n = static_cast<BuildNode*>(node);
+  for (unsigned i = 0; i < count && i < 2; ++i) n->bounds[i] = *bounds[i];
+}
+
+void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*) {
+  void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16);
+  auto* n = new (mem) BuildNode();
+  auto* ids = static_cast<unsigned*>(rtcThreadLocalAlloc(alloc, sizeof(unsigned) * count, 4));
+  for (size_t i = 0; i < count; ++i) ids[i] = prims[i].primID;
+  n->leaf = true;
+  n->prims = ids;
+  n->count = unsigned(count);
+  return n;
+}
+
+RTCBuildPrimitive bounds_of(Vec3 lo, Vec3 hi, unsigned index) {
+  RTCBuildPrimitive p;
+  p.lower_x = lo.x, p.lower_y = lo.y, p.lower_z = lo.z, p.geomID = 0;
+  p.upper_x = hi.x, p.upper_y = hi.y, p.upper_z = hi.z, p.primID = index;
+  return p;
+}
+
+struct Flattener {
+  const std::vector<BvhPrimitive>& source;
+  Bvh& out;
+  // Appends a leaf's primitives; returns the first.
+  uint32_t leaf(const BuildNode* n) {
+    const uint32_t first = uint32_t(out.primitives.size());
+    for (unsigned i = 0; i < n->count; ++i) out.primitives.push_back(source[n->prims[i]]);
+    return first;
+  }
+  // Writes inner node n at index `at` (already reserved), children depth-first after it.
+  void inner(const BuildNode* n, uint32_t at, int depth) {
+    if (depth > kBvhMaxDepth) throw std::runtime_error("BVH deeper than the traversal stack allows");
+    out.depth = std::max(out.depth, depth);
+    for (int c = 0; c < 2; ++c) {
+      BvhNode& slot = out.nodes[at];
+      const BuildNode* ch = n->child[c];
+      if (!ch) {
+        slot.child[c] = kBvhNone, slot.count[c] = 0;
+        continue;
+      }
+      slot.lo[c] = {n->bounds[c].lower_x, n->bounds[c].lower_y, n->bounds[c].lower_z};
+      slot.hi[c] = {n->bounds[c].upper_x, n->bounds[c].upper_y, n->bounds[c].upper_z};
+      if (ch->leaf) {
+        const uint32_t first = leaf(ch);
+        out.nodes[at].child[c] = first, out.nodes[at].count[c] = ch->count;
+        out.depth = std::max(out.depth, depth + 1);
+      } else {
+        const uint32_t index = uint32_t(out.nodes.size());
+        out.nodes.emplace_back();
+        out.nodes[at].child[c] = index, out.nodes[at].count[c] = 0;
+        inner(ch, index, depth + 1);
+      }
+    }
+  }
+};
+
+}  // namespace
+
+Bvh build_bvh(const Scene& scene) {
+  Bvh bvh;
+  bvh.sphere_geom = uint32_t(scene.meshes.size());
+  std::vector<BvhPrimitive> prims;
+  std::vector<RTCBuildPrimitive> refs;
+  prims.reserve(scene.triangle_count() + scene.spheres.size());
+  refs.reserve(prims.capacity());
+  for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
+    const TriangleMesh& m = scene.meshes[mi];
+    for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+      BvhPrimitive p;
+      p.a = m.positions[m.indices[3 * t]], p.b = m.positions[m.indices[3 * t + 1]], p.c = m.positions[m.indices[3 * t + 2]];
+      p.geom = mi, p.prim = t;
+      refs.push_back(bounds_of(min(p.a, min(p.b, p.c)), max(p.a, max(p.b, p.c)), unsigned(prims.size())));
+      prims.push_back(p);
+    }
+  }
+  for (uint32_t si = 0; si < scene.spheres.size(); ++si) {
+    const Sphere& s = scene.spheres[si];
+    BvhPrimitive p;
+    p.a = s.center, p.b = Vec3(s.radius, 0, 0);
+    p.geom = bvh.sphere_geom, p.prim = si;
+    refs.push_back(bounds_of(s.center - Vec3(s.radius), s.center + Vec3(s.radius), unsigned(prims.size())));
+    prims.push_back(p);
+  }
+  if (prims.empty()) return bvh;
+
+  RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
+  if (!device) throw std::runtime_error("cannot create the Embree device for the BVH build");
+  RTCBVH handle = rtcNewBVH(device);
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.byteSize = sizeof(args);
+  args.buildQuality = RTC_BUILD_QUALITY_HIGH;
+  args.maxBranchingFactor = 2;
+  args.maxDepth = kBvhMaxDepth;
+  args.sahBlockSize = 1;
+  args.minLeafSize = 1;
+  args.maxLeafSize = 4;
+  // SAH costs for a SIMT traversal: a box pair per node fetch vs one primitive test (Aila &
+  // Laine 2009 use roughly equal costs).
+  args.traversalCost = 1.0f;
+  args.intersectionCost = 1.0f;
+  args.bvh = handle;
+  args.primitives = refs.data();
+  args.primitiveCount = refs.size();
+  args.primitiveArrayCapacity = refs.size();  // no spatial splits: each primitive in one leaf
+  args.createNode = create_node;
+  args.setNodeChildren = set_children;
+  args.setNodeBounds = set_bounds;
+  args.createLeaf = create_leaf;
+  void* root = rtcBuildBVH(&args);
+  const RTCError err = rtcGetDeviceError(device);
+  try {
+    if (!root || err != RTC_ERROR_NONE)
+      throw std::runtime_error("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
+    const auto* r = static_cast<const BuildNode*>(root);
+    bvh.nodes.reserve(prims.size());  // a binary tree over n leaves of >= 1 primitive has < n inner nodes
+    bvh.primitives.reserve(prims.size());
+    bvh.nodes.emplace_back();
+    Flattener f{prims, bvh};
+    if (r->leaf) {  // a whole scene in one leaf: a root with one leaf child
+      bvh.nodes[0].child[1] = kBvhNone, bvh.nodes[0].count[1] = 0;
+      Bounds3 b;
+      for (const BvhPrimitive& p : prims) {
+        if (p.geom == bvh.sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
+        else b.extend(p.a), b.extend(p.b), b.extend(p.c);
+      }
+      bvh.nodes[0].lo[0] = b.lo, bvh.nodes[0].hi[0] = b.hi;
+      bvh.nodes[0].child[0] = f.leaf(r), bvh.nodes[0].count[0] = r->count;
+      bvh.depth = 2;
+    } else {
+      f.inner(r, 0, 1);
+    }
+  } catch (...) {
+    rtcReleaseBVH(handle);
+    rtcReleaseDevice(device);
+    throw;
+  }
+  rtcReleaseBVH(handle);
+  rtcReleaseDevice(device);
+  if (bvh.primitives.size() != prims.size()) throw std::runtime_error("BVH build lost primitives");
+  return bvh;
+}
+
+}  // namespace rl

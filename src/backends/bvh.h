@@ -1,0 +1,59 @@
+// The BVH the CUDA backend traverses (and the CPU traverses in tests, to prove the same code
+// right against Embree): built on the host with Embree's generic SAH builder (rtcBuildBVH) into
+// our own layout, flattened depth-first into two flat arrays that copy to a device as they are.
+//
+// Layout (Aila & Laine 2009, "Understanding the Efficiency of Ray Traversal on GPUs"): a binary
+// tree whose node holds both children's boxes, so a thread tests two boxes per node fetch and
+// never loads a child it will not enter. 64-byte nodes, 48-byte primitives (triangle vertices or
+// sphere centre and radius, with the scene ids Hit reports).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+struct BvhNode {
+  Vec3 lo[2], hi[2];   // the children's boxes
+  uint32_t child[2];   // inner child: node index; leaf child: first primitive
+  uint32_t count[2];   // 0: inner node (or no child when child == kBvhNone); > 0: leaf of count primitives
+};
+static_assert(sizeof(BvhNode) == 64);
+
+inline constexpr uint32_t kBvhNone = 0xffffffffu;
+
+struct BvhPrimitive {
+  Vec3 a, b, c;        // triangle: its vertices; sphere: a = centre, b.x = radius
+  uint32_t geom = 0;   // mesh index, or the sphere geometry (number of meshes) for spheres
+  uint32_t prim = 0;   // triangle in the mesh, or sphere index
+  uint32_t pad[1] = {0};
+};
+static_assert(sizeof(BvhPrimitive) == 48);
+
+// What a traversal sees: pointers into host or device memory (trivially copyable).
+struct BvhView {
+  const BvhNode* nodes = nullptr;
+  const BvhPrimitive* primitives = nullptr;
+  uint32_t node_count = 0, primitive_count = 0;
+  uint32_t sphere_geom = 0;  // geom id of spheres (= number of meshes, as Accel)
+};
+
+inline constexpr int kBvhMaxDepth = 48;  // the builder's depth limit; the traversal stack holds this many
+
+struct Bvh {
+  std::vector<BvhNode> nodes;           // nodes[0] is the root (none for an empty scene)
+  std::vector<BvhPrimitive> primitives; // in leaf order
+  uint32_t sphere_geom = 0;
+  int depth = 0;                        // of the deepest leaf (root = 1)
+  BvhView view() const {
+    return {nodes.data(), primitives.data(), uint32_t(nodes.size()), uint32_t(primitives.size()), sphere_geom};
+  }
+};
+
+// SAH build over every triangle and sphere of the scene (its current pose). Throws
+// std::runtime_error if Embree fails.
+Bvh build_bvh(const Scene& scene);
+
+}  // namespace rl

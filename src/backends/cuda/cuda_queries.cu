@@ -1,0 +1,149 @@
+// CUDA ray queries: the BVH in device memory, one thread per ray, one launch per batch.
+#include <cuda_runtime.h>
+
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "backends/bvh.h"
+#include "backends/bvh_traverse.h"
+#include "backends/cuda/cuda_queries.h"
+
+namespace rl {
+
+namespace {
+
+void check(cudaError_t e, const char* what) {
+  if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA error while ") + what + ": " + cudaGetErrorString(e));
+}
+
+// A device array that grows and never shrinks: batches reuse it (ARCHITECTURE.md: buffers are
+// allocated once per size, not per pass).
+template <class T>
+struct DeviceArray {
+  T* data = nullptr;
+  size_t capacity = 0;
+  DeviceArray() = default;
+  DeviceArray(const DeviceArray&) = delete;
+  DeviceArray& operator=(const DeviceArray&) = delete;
+  ~DeviceArray() {
+    if (data) cudaFree(data);
+  }
+  void reserve(size_t n) {
+    if (n <= capacity) return;
+    if (data) cudaFree(data);
+    data = nullptr, capacity = 0;
+    check(cudaMalloc(&data, n * sizeof(T)), "allocating device memory");
+    capacity = n;
+  }
+  void upload(const T* host, size_t n, cudaStream_t s) {
+    reserve(n);
+    if (n) check(cudaMemcpyAsync(data, host, n * sizeof(T), cudaMemcpyHostToDevice, s), "copying to the device");
+  }
+};
+
+__global__ void intersect_kernel(BvhView bvh, const Ray* rays, Hit* hits, uint32_t n) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  Hit h;
+  bvh_trace(bvh, rays[i], false, &h);
+  hits[i] = h;
+}
+
+__global__ void occluded_kernel(BvhView bvh, const Ray* rays, uint8_t* blocked, uint32_t n) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  blocked[i] = bvh_trace(bvh, rays[i], true, nullptr) ? 1 : 0;
+}
+
+constexpr uint32_t kBlock = 128;  // threads per block: short traversal stacks, many warps in flight
+
+class CudaQueries final : public RayQueries {
+ public:
+  explicit CudaQueries(const Scene& scene) : scene_(scene) {
+    check(cudaSetDevice(0), "selecting device 0");
+    check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "creating a stream");
+    upload_bvh();
+  }
+  ~CudaQueries() override {
+    if (stream_) cudaStreamDestroy(stream_);
+  }
+
+  void intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool) const override {
+    if (rays.empty()) return;
+    std::lock_guard lock(mutex_);  // one batch at a time: they share the device arrays
+    rays_.upload(rays.data(), rays.size(), stream_);
+    hits_.reserve(rays.size());
+    const uint32_t n = uint32_t(rays.size());
+    intersect_kernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(view_, rays_.data, hits_.data, n);
+    check(cudaGetLastError(), "launching the closest-hit kernel");
+    check(cudaMemcpyAsync(hits.data(), hits_.data, n * sizeof(Hit), cudaMemcpyDeviceToHost, stream_), "copying hits back");
+    check(cudaStreamSynchronize(stream_), "tracing closest hits");
+  }
+
+  void occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const override {
+    if (rays.empty()) return;
+    std::lock_guard lock(mutex_);
+    rays_.upload(rays.data(), rays.size(), stream_);
+    blocked_.reserve(rays.size());
+    const uint32_t n = uint32_t(rays.size());
+    occluded_kernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(view_, rays_.data, blocked_.data, n);
+    check(cudaGetLastError(), "launching the any-hit kernel");
+    check(cudaMemcpyAsync(blocked.data(), blocked_.data, n, cudaMemcpyDeviceToHost, stream_), "copying occlusion back");
+    check(cudaStreamSynchronize(stream_), "tracing shadow rays");
+  }
+
+  // An animated scene moved: a fresh SAH build of its new pose (refitting would keep the old
+  // topology, which degrades as objects move apart), uploaded once per frame.
+  void update() override {
+    std::lock_guard lock(mutex_);
+    upload_bvh();
+  }
+  const char* backend_name() const override { return "cuda"; }
+
+ private:
+  void upload_bvh() {
+    const Bvh bvh = build_bvh(scene_);
+    nodes_.upload(bvh.nodes.data(), bvh.nodes.size(), stream_);
+    primitives_.upload(bvh.primitives.data(), bvh.primitives.size(), stream_);
+    check(cudaStreamSynchronize(stream_), "uploading the BVH");
+    view_ = BvhView{nodes_.data, primitives_.data, uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+  }
+
+  const Scene& scene_;
+  cudaStream_t stream_ = nullptr;
+  DeviceArray<BvhNode> nodes_;
+  DeviceArray<BvhPrimitive> primitives_;
+  BvhView view_;
+  mutable std::mutex mutex_;
+  mutable DeviceArray<Ray> rays_;
+  mutable DeviceArray<Hit> hits_;
+  mutable DeviceArray<uint8_t> blocked_;
+};
+
+}  // namespace
+
+bool cuda_backend_built() { return true; }
+
+std::string cuda_unavailable_reason() {
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) return std::string("no usable CUDA device: ") + cudaGetErrorString(e);
+  if (count == 0) return "no CUDA device found";
+  return {};
+}
+
+std::string cuda_device_description() {
+  if (std::string why = cuda_unavailable_reason(); !why.empty()) return why;
+  cudaDeviceProp p{};
+  if (cudaGetDeviceProperties(&p, 0) != cudaSuccess) return "device 0: properties unavailable";
+  return std::string(p.name) + ", " + std::to_string(p.totalGlobalMem >> 30) + " GiB, sm_" + std::to_string(p.major) +
+         std::to_string(p.minor) + ", " + std::to_string(p.multiProcessorCount) + " SMs";
+}
+
+std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene) {
+  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
+  return std::make_unique<CudaQueries>(scene);
+}
+
+}  // namespace rl
