@@ -2,6 +2,7 @@
 #pragma once
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "image/image.h"
@@ -11,8 +12,14 @@
 
 namespace rl::test {
 
-inline std::string shared_scene(const std::string& rel) { return std::string(RESTIR_SHARED_DIR) + "/scenes/" + rel; }
-inline std::string own_scene(const std::string& rel) { return std::string(RESTIR_SOURCE_DIR) + "/scenes/" + rel; }
+// The build's paths, unless the environment moves them (scripts/gpu-check.sh runs the GPU tests
+// from a bundle on another machine: RESTIR_SHARED_DIR, RESTIR_SOURCE_DIR).
+inline std::string env_or(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? v : fallback;
+}
+inline std::string shared_scene(const std::string& rel) { return env_or("RESTIR_SHARED_DIR", RESTIR_SHARED_DIR) + "/scenes/" + rel; }
+inline std::string own_scene(const std::string& rel) { return env_or("RESTIR_SOURCE_DIR", RESTIR_SOURCE_DIR) + "/scenes/" + rel; }
 
 // Options = defaults < scene hints < the given key=value settings.
 inline Options options_for(const Scene& scene, std::initializer_list<const char*> sets) {

@@ -1,7 +1,9 @@
 // CUDA ray queries: the BVH in device memory, one thread per ray, one launch per batch.
 #include <cuda_runtime.h>
 
+#include <algorithm>
 #include <mutex>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -144,6 +146,56 @@ std::string cuda_device_description() {
 std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene) {
   if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
   return std::make_unique<CudaQueries>(scene);
+}
+
+CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats) {
+  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
+  check(cudaSetDevice(0), "selecting device 0");
+  const Bvh bvh = build_bvh(scene);
+  DeviceArray<BvhNode> nodes;
+  DeviceArray<BvhPrimitive> prims;
+  DeviceArray<Ray> d_rays;
+  DeviceArray<Hit> d_hits;
+  DeviceArray<uint8_t> d_blocked;
+  nodes.upload(bvh.nodes.data(), bvh.nodes.size(), nullptr);
+  prims.upload(bvh.primitives.data(), bvh.primitives.size(), nullptr);
+  const BvhView view{nodes.data, prims.data, uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+  const uint32_t n = uint32_t(rays.size());
+  d_hits.reserve(n);
+  d_blocked.reserve(n);
+  cudaEvent_t start, stop;
+  check(cudaEventCreate(&start), "creating an event");
+  check(cudaEventCreate(&stop), "creating an event");
+  auto elapsed = [&] {
+    check(cudaEventSynchronize(stop), "timing");
+    float ms = 0;
+    check(cudaEventElapsedTime(&ms, start, stop), "timing");
+    return double(ms);
+  };
+  CudaRayTiming t;
+  check(cudaEventRecord(start), "timing");
+  d_rays.upload(rays.data(), n, nullptr);
+  check(cudaEventRecord(stop), "timing");
+  t.upload_ms = elapsed();
+  const uint32_t blocks = (n + kBlock - 1) / kBlock;
+  t.closest_ms = t.any_ms = 1e30;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    check(cudaEventRecord(start), "timing");
+    intersect_kernel<<<blocks, kBlock>>>(view, d_rays.data, d_hits.data, n);
+    check(cudaEventRecord(stop), "timing");
+    t.closest_ms = std::min(t.closest_ms, elapsed());
+    check(cudaEventRecord(start), "timing");
+    occluded_kernel<<<blocks, kBlock>>>(view, d_rays.data, d_blocked.data, n);
+    check(cudaEventRecord(stop), "timing");
+    t.any_ms = std::min(t.any_ms, elapsed());
+  }
+  check(cudaGetLastError(), "running the traversal kernels");
+  std::vector<Hit> hits(n);
+  check(cudaMemcpy(hits.data(), d_hits.data, n * sizeof(Hit), cudaMemcpyDeviceToHost), "copying hits back");
+  for (const Hit& h : hits) t.hits += h.valid();
+  cudaEventDestroy(start);
+  cudaEventDestroy(stop);
+  return t;
 }
 
 }  // namespace rl

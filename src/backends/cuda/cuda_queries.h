@@ -22,4 +22,15 @@ std::string cuda_device_description();
 // backend or a device is missing. The scene must outlive the queries (update() re-reads it).
 std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene);
 
+// Traversal speed on the device alone (bench/bench_gpu.cpp): the rays are uploaded once, then
+// closest-hit and any-hit kernels run `repeats` times each, timed with CUDA events. Throws as
+// make_cuda_queries.
+struct CudaRayTiming {
+  double closest_ms = 0;   // per pass over all rays, best of the repeats
+  double any_ms = 0;
+  double upload_ms = 0;    // rays host -> device, once
+  size_t hits = 0;         // closest hits found (a check that the kernel did work)
+};
+CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats);
+
 }  // namespace rl

@@ -1,0 +1,111 @@
+// The CUDA backend against the CPU backend, measured in one run (issue 16):
+//   - traversal: the rays one path-traced frame traces (camera, bounce and shadow rays, recorded
+//     from the reference path tracer at the benchmark's resolution), replayed through Embree on all
+//     CPU cores (batched) and through the CUDA kernels (device time alone, CUDA events); rays/s of
+//     each and their ratio;
+//   - the path tracer `pt`, render.backend = cpu vs cuda: ms per frame and the ratio.
+// Without a usable GPU it prints why and exits 77 (nothing measured). Default 1920x1080, 1 spp.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <mutex>
+
+#include "backends/cuda/cuda_queries.h"
+#include "bench_common.h"
+#include "core/parallel.h"
+#include "integrators/path_tracer.h"
+#include "integrators/render.h"
+#include "scene/loader.h"
+
+using namespace rl;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Every ray one frame of the reference path tracer traces (closest-hit rays, shadow rays).
+void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::vector<Ray>& rays, std::vector<Ray>& shadow) {
+  const Options& o = ctx.options;
+  std::mutex m;
+  parallel_for(o.film.height, [&](int y) {
+    PathStats st;
+    std::vector<Ray> r, s;
+    st.record_rays = &r;
+    st.record_shadow_rays = &s;
+    for (int x = 0; x < o.film.width; ++x)
+      for (int k = 0; k < o.render.spp; ++k) {
+        Pcg32 rng = make_rng(uint32_t(y * o.film.width + x), 0, RngPass::path, o.render.seed, uint32_t(k));
+        (void)path_radiance(ctx, o.path, camera_ray(ctx, cam, x, y, 0, k), rng, &st);
+      }
+    std::lock_guard lock(m);
+    rays.insert(rays.end(), r.begin(), r.end());
+    shadow.insert(shadow.end(), s.begin(), s.end());
+  });
+}
+
+double pt_frame_ms(const Scene& scene, Options o, Backend backend, int frames) {
+  o.render.backend = backend;
+  o.render.frames = frames;
+  RenderResult r = render(scene, o);
+  return bench::median(r.frame_ms, frames > 1 ? 1 : 0);  // the first frame warms caches and the device
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"CUDA backend vs CPU backend: traversal rays/s and path tracer ms/frame"};
+  int width = 1920, height = 1080, spp = 1, repeats = 5, frames = 3;
+  std::vector<std::string> scenes = {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt",
+                                     std::string(RESTIR_SHARED_DIR) + "/scenes/veach-mis/scene-v4.pbrt",
+                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
+  app.add_option("--width", width);
+  app.add_option("--height", height);
+  app.add_option("--spp", spp);
+  app.add_option("--repeats", repeats, "kernel repetitions (the best is reported)");
+  app.add_option("--frames", frames, "path-traced frames per backend (the median after the first is reported)");
+  app.add_option("--scene", scenes, "scenes to measure");
+  CLI11_PARSE(app, argc, argv);
+  if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
+    fmt::print("bench_gpu: skipped: {}\n", why);
+    return 77;
+  }
+  fmt::print("device: {}\n", cuda_device_description());
+  for (const std::string& path : scenes) {
+    Scene scene = load_scene(path);
+    Options o;
+    apply_scene_hints(o, scene.hints);
+    o.integrator = "pt";
+    o.film.width = width, o.film.height = height, o.render.spp = spp;
+    Accel accel(scene);
+    Lights lights(scene, o.render.light_selection);
+    RenderContext ctx{scene, accel, lights, o};
+    PerspectiveCamera cam(scene.camera.at_frame(0, 1), width, height);
+    std::vector<Ray> rays, shadow;
+    record_rays(ctx, cam, rays, shadow);
+    std::vector<Hit> hits(rays.size());
+    std::vector<uint8_t> blocked(shadow.size());
+    double embree_ms = 1e30;
+    for (int r = 0; r < repeats; ++r) {
+      const auto t0 = Clock::now();
+      accel.intersect_batch(rays, hits);
+      accel.occluded_batch(shadow, blocked);
+      embree_ms = std::min(embree_ms, ms_since(t0));
+    }
+    const CudaRayTiming closest = cuda_time_rays(scene, rays, repeats);
+    const CudaRayTiming any = cuda_time_rays(scene, shadow, repeats);
+    const double cuda_ms = closest.closest_ms + any.any_ms;
+    const double total = double(rays.size() + shadow.size());
+    const double cpu_pt = pt_frame_ms(scene, o, Backend::cpu, frames), gpu_pt = pt_frame_ms(scene, o, Backend::cuda, frames);
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    fmt::print("{} {}x{} {} spp: {} rays ({} shadow)\n", name, width, height, spp, rays.size() + shadow.size(), shadow.size());
+    fmt::print("  traversal: Embree (CPU, {} rays batched) {:.1f} ms = {:.1f} Mrays/s; CUDA kernels {:.2f} ms = {:.1f} Mrays/s "
+               "(closest {:.2f} ms, any {:.2f} ms; upload {:.2f} ms); CUDA/Embree {:.1f}x\n",
+               rays.size() + shadow.size(), embree_ms, total / embree_ms * 1e-3, cuda_ms, total / cuda_ms * 1e-3, closest.closest_ms,
+               any.any_ms, closest.upload_ms + any.upload_ms, embree_ms / cuda_ms);
+    fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms (ray queries on the GPU, shading on the CPU); cpu/cuda {:.2f}x\n", cpu_pt,
+               gpu_pt, cpu_pt / gpu_pt);
+  }
+  return 0;
+}
