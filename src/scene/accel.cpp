@@ -83,6 +83,8 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the BVH");
   animated_ = animated;
+  view_data_ = SceneViewData(scene);
+  view_ = view_data_.view();
   if (!b.empty()) {
     float extent = std::max(max_component(max(b.hi, -b.lo)), max_component(b.diagonal()));
     epsilon_ = std::max(1e-5f * extent, 1e-6f);
@@ -117,6 +119,8 @@ void Accel::update() {
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "updating the BVH");
+  view_data_ = SceneViewData(scene_);  // moved spheres' centres are copied into the view
+  view_ = view_data_.view();
 }
 
 Accel::~Accel() = default;
@@ -237,52 +241,6 @@ void Accel::intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool
 
 void Accel::occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
   parallel_chunks(rays.size(), [&](size_t a, size_t b) { occluded(rays.subspan(a, b - a), blocked.subspan(a, b - a)); });
-}
-
-SurfaceInteraction Accel::interaction(const Ray& ray, const Hit& hit) const {
-  SurfaceInteraction si;
-  si.geom = hit.geom;
-  si.prim = hit.prim;
-  if (hit.geom == sphere_geom()) {
-    const Sphere& s = scene_.spheres[hit.prim];
-    Vec3 p = ray.o + ray.d * hit.t;
-    Vec3 n = normalize(p - s.center);
-    si.p = s.center + n * s.radius;  // re-project onto the surface to cut the hit's float error
-    si.ng = s.flip_normal ? -n : n;
-    si.ns = si.ng;
-    // pbrt's sphere (u, v): phi / 2pi and theta from the z axis; only textured spheres need it
-    // (the trigonometry is a measurable share of a frame on sphere-lit scenes).
-    if (scene_.materials[size_t(s.material)].reflectance_texture >= 0) {
-      float phi = std::atan2(n.y, n.x);
-      if (phi < 0) phi += 2 * kPi;
-      si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
-    }
-    si.material = s.material;
-    si.is_sphere = true;
-    return si;
-  }
-  const TriangleMesh& m = scene_.meshes[hit.geom];
-  const uint32_t i0 = m.indices[3 * hit.prim], i1 = m.indices[3 * hit.prim + 1], i2 = m.indices[3 * hit.prim + 2];
-  const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
-  const Vec3 p0 = m.positions[i0], p1 = m.positions[i1], p2 = m.positions[i2];
-  si.p = p0 * b0 + p1 * b1 + p2 * b2;
-  Vec3 ng = triangle_normal(m, hit.prim);
-  if (is_black(ng)) ng = -ray.d;  // degenerate triangle: any consistent normal
-  si.ng = ng;
-  if (!m.normals.empty()) {
-    Vec3 ns = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
-    float l = length(ns);
-    si.ns = l > 0 ? face_forward(ns / l, ng) : ng;
-  } else {
-    si.ns = ng;
-  }
-  if (!m.uvs.empty()) {
-    si.uv = m.uvs[i0] * b0 + m.uvs[i1] * b1 + m.uvs[i2] * b2;
-  } else {
-    si.uv = {b1, b2};
-  }
-  si.material = m.material;
-  return si;
 }
 
 }  // namespace rl

@@ -8,19 +8,9 @@
 #include "core/math.h"
 #include "scene/ray_queries.h"
 #include "scene/scene.h"
+#include "scene/scene_view.h"
 
 namespace rl {
-
-// Everything shading needs about a hit point.
-struct SurfaceInteraction {
-  Vec3 p;
-  Vec3 ng;        // geometric normal, orientation as pbrt (flip_normal applied), unit
-  Vec3 ns;        // shading normal (interpolated N, on the same side as ng), unit
-  Vec2 uv;
-  int material = 0;
-  bool is_sphere = false;
-  uint32_t geom = kInvalidId, prim = kInvalidId;
-};
 
 // The CPU backend's RayQueries (Embree), and the scalar queries and hit-point shading that the
 // per-pixel integrators use.
@@ -49,7 +39,9 @@ class Accel final : public RayQueries {
   void intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const override;
   void occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const override;
   const char* backend_name() const override { return "cpu"; }
-  SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+  SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const { return surface_interaction(view_, ray, hit); }
+  // The scene as per-sample code sees it (scene_view.h), of the pose update() last read.
+  const SceneView& scene_view() const { return view_; }
   uint32_t sphere_geom() const { return uint32_t(scene_.meshes.size()); }
   const Scene& scene() const { return scene_; }
   // Scene-size dependent epsilon used to offset spawned rays off surfaces.
@@ -59,6 +51,8 @@ class Accel final : public RayQueries {
   struct Impl;
   const Scene& scene_;
   std::unique_ptr<Impl> impl_;
+  SceneViewData view_data_;
+  SceneView view_;
   float epsilon_ = 1e-4f;
   bool animated_ = false;  // the scene has animated shapes: update() has work
 };

@@ -28,7 +28,7 @@ struct Bsdf {                      // resolved at a hit point from a Material (+
 
 // reflectance = texture value or m.reflectance. Rough alphas are clamped to >= 1e-4 on both axes
 // (pbrt-v4: an anisotropic lobe with one near-zero axis makes D blow up).
-Bsdf make_bsdf(const Material& m, Rgb reflectance);
+RESTIR_HD inline Bsdf make_bsdf(const MaterialParams& m, Rgb reflectance);
 
 struct BsdfSample {
   Vec3 wi;
@@ -37,15 +37,17 @@ struct BsdfSample {
   bool is_delta = false;
 };
 
-Rgb bsdf_eval(const Bsdf&, Vec3 wo, Vec3 wi);    // 0 for delta lobes
-float bsdf_pdf(const Bsdf&, Vec3 wo, Vec3 wi);   // solid-angle pdf of bsdf_sample; 0 for delta lobes
+RESTIR_HD inline Rgb bsdf_eval(const Bsdf&, Vec3 wo, Vec3 wi);    // 0 for delta lobes
+RESTIR_HD inline float bsdf_pdf(const Bsdf&, Vec3 wo, Vec3 wi);   // solid-angle pdf of bsdf_sample; 0 for delta lobes
 // u_lobe picks reflection vs transmission (dielectric), u the direction. false = no sample.
-bool bsdf_sample(const Bsdf&, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out);
-bool bsdf_is_delta(const Bsdf&);                 // every lobe is a delta (smooth conductor/dielectric)
-float bsdf_roughness(const Bsdf&);               // 1 for diffuse, sqrt(alpha_x*alpha_y) otherwise
+RESTIR_HD inline bool bsdf_sample(const Bsdf&, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out);
+RESTIR_HD inline bool bsdf_is_delta(const Bsdf&);                 // every lobe is a delta (smooth conductor/dielectric)
+RESTIR_HD inline float bsdf_roughness(const Bsdf&);               // 1 for diffuse, sqrt(alpha_x*alpha_y) otherwise
 
 // Conductor Fresnel term actually used (exact complex Fresnel; with use_reflectance the colour r
 // is turned into eta = 1, k = 2 sqrt(r / (1 - r)) so that F(0) = r exactly, as pbrt-v4 does).
-Rgb bsdf_conductor_fresnel(const Bsdf&, float cos_i);
+RESTIR_HD inline Rgb bsdf_conductor_fresnel(const Bsdf&, float cos_i);
 
 }  // namespace rl
+
+#include "scene/bsdf_impl.h"

@@ -18,22 +18,26 @@ namespace rl {
 // any scene (a planet in millimetres) and keeps every product finite.
 inline constexpr float kMaxWorldCoordinate = 1e12f;
 
-// A texture: constant, an image map (bilinear, repeat), or a checkerboard in uv.
-struct Texture {
+// A texture's parameters (what device code reads; the image travels separately, texture_view.h).
+struct TextureParams {
   enum class Kind { constant, image, checkerboard };
   Kind kind = Kind::constant;
-  Rgb value{1};                 // constant
-  Image image;                  // image (linear RGB; 8-bit files are decoded from sRGB)
+  Rgb value{1};                 // constant (and an image texture's value when its image is empty)
   Rgb tex1{1}, tex2{0};         // checkerboard colours
   float uscale = 1, vscale = 1, udelta = 0, vdelta = 0;  // uv mapping
+};
+
+// A texture: constant, an image map (bilinear, repeat), or a checkerboard in uv.
+struct Texture : TextureParams {
+  Image image;                  // image (linear RGB; 8-bit files are decoded from sRGB)
   std::string name;
 };
 
-// Material parameters as written in the scene; a Bsdf is resolved from them at each hit.
-struct Material {
+// Material parameters as written in the scene; a Bsdf is resolved from them at each hit. The
+// plain part (MaterialParams) is what device code reads.
+struct MaterialParams {
   enum class Type { diffuse, conductor, dielectric };
   Type type = Type::diffuse;
-  std::string name;
   Rgb reflectance{0.5f};        // diffuse albedo; conductor: if use_reflectance, the normal-incidence colour
   int reflectance_texture = -1; // index into Scene::textures, overrides reflectance
   Rgb eta{0.2004f, 0.9240f, 1.1022f};  // conductor complex IOR (default: copper, as pbrt-v4)
@@ -41,6 +45,9 @@ struct Material {
   bool use_reflectance = false; // conductor given by "reflectance" instead of eta/k
   float ior = 1.5f;             // dielectric index of refraction (outside medium is 1)
   float alpha_x = 0, alpha_y = 0;  // GGX roughness (already remapped if remaproughness was set); 0 = smooth
+};
+struct Material : MaterialParams {
+  std::string name;
 };
 
 // Emission attached to a shape (pbrt "AreaLightSource diffuse").
@@ -119,14 +126,19 @@ struct SceneHints {
 // (Triangle::InteractionFromIntersection): with shading normals it is flipped to their side
 // (judged at the centroid), otherwise by flip_normal. Zero-area triangles give a zero vector.
 // Every consumer (intersection, emission, light sampling) must use this one function.
-inline Vec3 triangle_normal(const TriangleMesh& m, uint32_t tri) {
-  const uint32_t i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
-  Vec3 n = cross(m.positions[i1] - m.positions[i0], m.positions[i2] - m.positions[i0]);
+// The same over raw arrays (normals may be null), for device code (scene_view.h).
+RESTIR_HD inline Vec3 triangle_normal(const Vec3* positions, const Vec3* normals, const uint32_t* indices, bool flip_normal,
+                                      uint32_t tri) {
+  const uint32_t i0 = indices[3 * tri], i1 = indices[3 * tri + 1], i2 = indices[3 * tri + 2];
+  Vec3 n = cross(positions[i1] - positions[i0], positions[i2] - positions[i0]);
   float len = length(n);
   if (!(len > 0)) return Vec3(0);
   n = n / len;
-  if (!m.normals.empty()) return face_forward(n, m.normals[i0] + m.normals[i1] + m.normals[i2]);
-  return m.flip_normal ? -n : n;
+  if (normals) return face_forward(n, normals[i0] + normals[i1] + normals[i2]);
+  return flip_normal ? -n : n;
+}
+inline Vec3 triangle_normal(const TriangleMesh& m, uint32_t tri) {
+  return triangle_normal(m.positions.data(), m.normals.empty() ? nullptr : m.normals.data(), m.indices.data(), m.flip_normal, tri);
 }
 
 struct Scene {

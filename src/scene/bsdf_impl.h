@@ -1,34 +1,35 @@
-// BSDF evaluation / sampling / pdf. Our own code, following the semantics of pbrt-v4's
-// DiffuseBxDF, ConductorBxDF and DielectricBxDF (Pharr, Jakob, Humphreys, PBR 4th ed., ch. 9).
-#include "scene/bsdf.h"
-
+// The BSDF bodies (bsdf.h's functions), inline and RESTIR_HD so that the CUDA backend compiles
+// the same code. Our own code, following the semantics of pbrt-v4's DiffuseBxDF, ConductorBxDF
+// and DielectricBxDF (Pharr, Jakob, Humphreys, PBR 4th ed., ch. 9). Included by bsdf.h only.
+#pragma once
 #include "core/sampling.h"
 #include "scene/microfacet.h"
 
 namespace rl {
 
-namespace {
 
-inline bool same_hemisphere(Vec3 a, Vec3 b) { return a.z * b.z > 0; }
-inline Rgb finite_or_zero(Rgb v) { return is_finite(v) ? v : Rgb(0); }
-inline float finite_or_zero(float v) { return std::isfinite(v) ? v : 0.0f; }
-inline bool unit_ok(Vec3 w) { return is_finite(w) && length_squared(w) > 0.5f; }
+namespace bsdf_detail {
 
-Ggx ggx_of(const Bsdf& b) { return {b.alpha_x, b.alpha_y}; }
-bool is_smooth(const Bsdf& b) { return std::max(b.alpha_x, b.alpha_y) < kSmoothAlpha; }
-bool index_matched(const Bsdf& b) { return !(b.ior > 1.0001f || b.ior < 1 / 1.0001f); }
+RESTIR_HD inline bool same_hemisphere(Vec3 a, Vec3 b) { return a.z * b.z > 0; }
+RESTIR_HD inline Rgb finite_or_zero(Rgb v) { return is_finite(v) ? v : Rgb(0); }
+RESTIR_HD inline float finite_or_zero(float v) { return std::isfinite(v) ? v : 0.0f; }
+RESTIR_HD inline bool unit_ok(Vec3 w) { return is_finite(w) && length_squared(w) > 0.5f; }
+
+RESTIR_HD inline Ggx ggx_of(const Bsdf& b) { return {b.alpha_x, b.alpha_y}; }
+RESTIR_HD inline bool is_smooth(const Bsdf& b) { return std::max(b.alpha_x, b.alpha_y) < kSmoothAlpha; }
+RESTIR_HD inline bool index_matched(const Bsdf& b) { return !(b.ior > 1.0001f || b.ior < 1 / 1.0001f); }
 
 // ---------------------------------------------------------------- diffuse (Lambert)
 // f = R / pi; cosine-weighted sampling, pdf = |cos wi| / pi (Malley's method, PBR4 sec. 9.2).
-Rgb diffuse_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline Rgb diffuse_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (!same_hemisphere(wo, wi)) return Rgb(0);
   return b.reflectance * kInvPi;
 }
-float diffuse_pdf(Vec3 wo, Vec3 wi) {
+RESTIR_HD inline float diffuse_pdf(Vec3 wo, Vec3 wi) {
   if (!same_hemisphere(wo, wi)) return 0;
   return std::fabs(wi.z) * kInvPi;
 }
-bool diffuse_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
+RESTIR_HD inline bool diffuse_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
   if (wo.z == 0) return false;
   Vec3 wi = sample_cosine_hemisphere(u);
   if (wo.z < 0) wi.z = -wi.z;
@@ -41,7 +42,7 @@ bool diffuse_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
 // Torrance-Sparrow / Cook-Torrance: f = D(wm) F(wo.wm) G2(wo, wi) / (4 |cos o| |cos i|)
 // (Walter 2007 eq. 20; PBR4 eq. 9.33). VNDF sampling: pdf = D_wo(wm) / (4 |wo.wm|), the
 // reflection Jacobian |dwm/dwi| = 1 / (4 |wi.wm|) (Walter 2007 eq. 14; Heitz 2018 eq. 17).
-Rgb conductor_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline Rgb conductor_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (is_smooth(b) || !same_hemisphere(wo, wi)) return Rgb(0);
   float co = std::fabs(wo.z), ci = std::fabs(wi.z);
   if (co == 0 || ci == 0) return Rgb(0);
@@ -52,7 +53,7 @@ Rgb conductor_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   Rgb F = bsdf_conductor_fresnel(b, abs_dot(wo, wm));
   return finite_or_zero(F * (m.d(wm) * m.g(wo, wi) / (4 * co * ci)));
 }
-float conductor_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline float conductor_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (is_smooth(b) || !same_hemisphere(wo, wi)) return 0;
   Vec3 wm = wo + wi;
   if (length_squared(wm) == 0) return 0;
@@ -61,7 +62,7 @@ float conductor_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (dom == 0) return 0;
   return finite_or_zero(ggx_of(b).d_visible(wo, wm) / (4 * dom));
 }
-bool conductor_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
+RESTIR_HD inline bool conductor_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
   if (wo.z == 0) return false;
   if (is_smooth(b)) {
     // Perfect mirror: weight F(cos o); the delta's f is F / |cos i| (PBR4 eq. 9.9).
@@ -94,7 +95,7 @@ bool conductor_sample(const Bsdf& b, Vec3 wo, Vec2 u, BsdfSample& out) {
 
 // Generalized half vector and the "reflect" flag; false when the configuration is degenerate or
 // uses a back-facing microfacet (PBR4 DielectricBxDF::f).
-bool dielectric_half(const Bsdf& b, Vec3 wo, Vec3 wi, Vec3& wm, bool& reflect_lobe, float& etap) {
+RESTIR_HD inline bool dielectric_half(const Bsdf& b, Vec3 wo, Vec3 wi, Vec3& wm, bool& reflect_lobe, float& etap) {
   float co = wo.z, ci = wi.z;
   reflect_lobe = co * ci > 0;
   etap = 1;
@@ -106,7 +107,7 @@ bool dielectric_half(const Bsdf& b, Vec3 wo, Vec3 wi, Vec3& wm, bool& reflect_lo
   return unit_ok(wm);
 }
 
-Rgb dielectric_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline Rgb dielectric_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (index_matched(b) || is_smooth(b)) return Rgb(0);
   Vec3 wm;
   bool refl;
@@ -121,7 +122,7 @@ Rgb dielectric_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   return Rgb(finite_or_zero(ft));
 }
 
-float dielectric_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline float dielectric_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
   if (index_matched(b) || is_smooth(b)) return 0;
   Vec3 wm;
   bool refl;
@@ -141,7 +142,7 @@ float dielectric_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
   return finite_or_zero(pdf);
 }
 
-bool dielectric_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out) {
+RESTIR_HD inline bool dielectric_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out) {
   if (wo.z == 0) return false;
   if (index_matched(b)) {  // no interface: light passes straight through (PBR4, eta == 1)
     Vec3 wi = -wo;
@@ -186,9 +187,9 @@ bool dielectric_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, BsdfSample&
   return true;
 }
 
-}  // namespace
+}  // namespace bsdf_detail
 
-Bsdf make_bsdf(const Material& m, Rgb reflectance) {
+RESTIR_HD inline Bsdf make_bsdf(const MaterialParams& m, Rgb reflectance) {
   Bsdf b;
   b.type = m.type;
   b.reflectance = reflectance;
@@ -205,7 +206,7 @@ Bsdf make_bsdf(const Material& m, Rgb reflectance) {
   return b;
 }
 
-Rgb bsdf_conductor_fresnel(const Bsdf& b, float cos_i) {
+RESTIR_HD inline Rgb bsdf_conductor_fresnel(const Bsdf& b, float cos_i) {
   if (b.use_reflectance) {
     // pbrt-v4 ConductorMaterial with "reflectance": eta = 1, k = 2 sqrt(r) / sqrt(1 - r), which
     // makes the exact complex Fresnel equal r at normal incidence: k^2 / (4 + k^2) = r.
@@ -216,49 +217,49 @@ Rgb bsdf_conductor_fresnel(const Bsdf& b, float cos_i) {
   return fresnel_complex(cos_i, b.eta, b.k);
 }
 
-Rgb bsdf_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline Rgb bsdf_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
   switch (b.type) {
-    case Material::Type::diffuse: return diffuse_eval(b, wo, wi);
-    case Material::Type::conductor: return conductor_eval(b, wo, wi);
-    case Material::Type::dielectric: return dielectric_eval(b, wo, wi);
+    case Material::Type::diffuse: return bsdf_detail::diffuse_eval(b, wo, wi);
+    case Material::Type::conductor: return bsdf_detail::conductor_eval(b, wo, wi);
+    case Material::Type::dielectric: return bsdf_detail::dielectric_eval(b, wo, wi);
   }
   return Rgb(0);
 }
 
-float bsdf_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline float bsdf_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
   switch (b.type) {
-    case Material::Type::diffuse: return diffuse_pdf(wo, wi);
-    case Material::Type::conductor: return conductor_pdf(b, wo, wi);
-    case Material::Type::dielectric: return dielectric_pdf(b, wo, wi);
+    case Material::Type::diffuse: return bsdf_detail::diffuse_pdf(wo, wi);
+    case Material::Type::conductor: return bsdf_detail::conductor_pdf(b, wo, wi);
+    case Material::Type::dielectric: return bsdf_detail::dielectric_pdf(b, wo, wi);
   }
   return 0;
 }
 
-bool bsdf_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out) {
+RESTIR_HD inline bool bsdf_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out) {
   out = {};
   bool ok = false;
   switch (b.type) {
-    case Material::Type::diffuse: ok = diffuse_sample(b, wo, u, out); break;
-    case Material::Type::conductor: ok = conductor_sample(b, wo, u, out); break;
-    case Material::Type::dielectric: ok = dielectric_sample(b, wo, u_lobe, u, out); break;
+    case Material::Type::diffuse: ok = bsdf_detail::diffuse_sample(b, wo, u, out); break;
+    case Material::Type::conductor: ok = bsdf_detail::conductor_sample(b, wo, u, out); break;
+    case Material::Type::dielectric: ok = bsdf_detail::dielectric_sample(b, wo, u_lobe, u, out); break;
   }
-  if (!ok || !unit_ok(out.wi) || !is_finite(out.f) || !(out.pdf > 0) || !std::isfinite(out.pdf)) {
+  if (!ok || !bsdf_detail::unit_ok(out.wi) || !is_finite(out.f) || !(out.pdf > 0) || !std::isfinite(out.pdf)) {
     out = {};
     return false;
   }
   return true;
 }
 
-bool bsdf_is_delta(const Bsdf& b) {
+RESTIR_HD inline bool bsdf_is_delta(const Bsdf& b) {
   switch (b.type) {
     case Material::Type::diffuse: return false;
-    case Material::Type::conductor: return is_smooth(b);
-    case Material::Type::dielectric: return is_smooth(b) || index_matched(b);
+    case Material::Type::conductor: return bsdf_detail::is_smooth(b);
+    case Material::Type::dielectric: return bsdf_detail::is_smooth(b) || bsdf_detail::index_matched(b);
   }
   return false;
 }
 
-float bsdf_roughness(const Bsdf& b) {
+RESTIR_HD inline float bsdf_roughness(const Bsdf& b) {
   if (b.type == Material::Type::diffuse) return 1.0f;
   return std::sqrt(b.alpha_x * b.alpha_y);
 }
