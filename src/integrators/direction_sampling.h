@@ -9,7 +9,7 @@
 
 namespace rl {
 
-inline bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& s) {
+RESTIR_HD inline bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& s) {
   if (use_bsdf || bsdf_is_delta(bsdf)) return bsdf_sample(bsdf, wo, u_lobe, u, s);
   const bool transmissive = bsdf.type == Material::Type::dielectric;
   Vec3 wi = sample_cosine_hemisphere(u);
@@ -29,7 +29,7 @@ inline bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, float u_l
 }
 
 // Solid-angle density of sample_direction() (0 for delta BSDFs).
-inline float direction_pdf(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Vec3 wi) {
+RESTIR_HD inline float direction_pdf(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Vec3 wi) {
   if (use_bsdf) return bsdf_pdf(bsdf, wo, wi);
   if (bsdf_is_delta(bsdf)) return 0;
   float pdf = cosine_hemisphere_pdf(std::fabs(wi.z));

@@ -214,8 +214,8 @@ void visit_options(O& o, V& v) {
   v("render.frames", o.render.frames, "frames in the sequence (camera animation spans them)", Range{1, 100000});
   v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
   v("render.backend", o.render.backend,
-    "where the ray queries run: cpu (Embree) or cuda (own BVH on an NVIDIA GPU; builds with -DRESTIR_CUDA=ON; pt "
-    "only so far, its shading still on the CPU)");
+    "where the frame is computed: cpu (Embree, all cores) or cuda (an NVIDIA GPU: the scene, its BVH and every "
+    "wavefront stage on the device; builds with -DRESTIR_CUDA=ON; pt only so far)");
   v("render.sample_pattern", o.render.sample_pattern, "primary-ray positions inside a pixel");
   v("render.light_selection", o.render.light_selection, "how a light is picked: by emitted power (alias table) or uniformly");
   v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");

@@ -11,97 +11,17 @@
 #include "core/sampling.h"
 #include "integrators/direction_sampling.h"
 #include "integrators/pixel_sampler.h"
+#include "integrators/pt_cuda.h"
 #include "scene/bsdf.h"
 #include "scene/texture.h"
 
 namespace rl {
 
-namespace {
-
-float mis_weight(MisHeuristic h, float pa, float pb) {
-  return h == MisHeuristic::power ? power_heuristic(pa, pb) : balance_heuristic(pa, pb);
-}
-
-}  // namespace
+PathWorld path_world(const RenderContext& ctx) { return {ctx.accel.scene_view(), ctx.lights.view(), ctx.accel.ray_epsilon()}; }
 
 bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st, const Hit* hit, PendingShadow& shadow,
                  bool skip_first_emission) {
-  const Scene& scene = ctx.scene;
-  const Lights& lights = ctx.lights;
-  const float eps = ctx.accel.ray_epsilon();
-  const bool nee = opt.nee && !lights.empty();
-  const int depth = st.depth;
-  shadow.valid = false;
-  if (!hit) {
-    if (depth == 0 && skip_first_emission) return false;
-    Rgb Le = lights.environment_radiance(st.ray.d);
-    if (!is_black(Le)) {
-      float w = 1;
-      if (depth > 0 && !st.specular && nee) w = mis_weight(opt.mis, st.prev_pdf, lights.environment_pdf(st.ray.d));
-      st.L += st.beta * Le * w;
-    }
-    return false;
-  }
-  SurfaceInteraction si = ctx.accel.interaction(st.ray, *hit);
-
-  // Emission seen along the ray, MIS-weighted against light sampling from the previous vertex.
-  uint32_t emitter = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
-  if (emitter != kNoEmitter && !(depth == 0 && skip_first_emission)) {
-    Rgb Le = lights.emitted(emitter, si.ng, -st.ray.d);
-    if (!is_black(Le)) {
-      float w = 1;
-      if (depth > 0 && !st.specular && nee) w = mis_weight(opt.mis, st.prev_pdf, lights.pdf(emitter, st.prev_p, si.p, si.ng));
-      st.L += st.beta * Le * w;
-    }
-  }
-  if (depth >= opt.max_depth) return false;
-
-  const Material& mat = scene.materials[size_t(si.material)];
-  const Bsdf bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
-  const Frame frame = Frame::from_normal(si.ns);
-  const Vec3 wo = frame.to_local(-st.ray.d);
-  const bool delta = bsdf_is_delta(bsdf);
-  Pcg32& rng = st.rng;
-
-  // Next-event estimation: one light sample, MIS-weighted against BSDF sampling; the caller traces
-  // the shadow ray and adds the contribution if it is unoccluded.
-  if (nee && !delta) {
-    LightSample ls;
-    if (lights.sample(si.p, rng.next_float(), rng.next_2d(), ls) && ls.pdf > 0 && !is_black(ls.radiance)) {
-      Vec3 wi = frame.to_local(ls.wi);
-      Rgb f = bsdf_eval(bsdf, wo, wi) * std::fabs(wi.z);
-      if (!is_black(f)) {
-        float w = ls.is_delta ? 1.0f : mis_weight(opt.mis, ls.pdf, direction_pdf(bsdf, opt.bsdf_sampling, wo, wi));
-        shadow.ray = shadow_ray_to_light(si.p, si.ng, ls, eps);
-        shadow.contribution = st.beta * f * ls.radiance * (w / ls.pdf);
-        shadow.valid = true;
-      }
-    }
-  }
-
-  // Continue the path.
-  BsdfSample bs;
-  const float u_lobe = rng.next_float();
-  const Vec2 u_dir = rng.next_2d();
-  if (!sample_direction(bsdf, opt.bsdf_sampling, wo, u_lobe, u_dir, bs) || bs.pdf <= 0 || is_black(bs.f)) return false;
-  st.beta *= bs.f * (std::fabs(bs.wi.z) / bs.pdf);
-  st.specular = bs.is_delta;
-  st.prev_pdf = bs.pdf;
-  st.prev_p = si.p;
-  const Vec3 wi_world = frame.to_world(bs.wi);
-  st.ray = spawn_ray(si.p, si.ng, wi_world, eps);
-  st.depth = depth + 1;
-
-  // Russian roulette (pbrt-v4): survive with probability max(beta) once past rr_min_depth.
-  if (opt.russian_roulette && depth + 1 >= opt.rr_min_depth) {
-    float m = max_component(st.beta);
-    if (m < 1) {
-      float q = std::max(0.0f, 1 - m);
-      if (rng.next_float() < q) return false;
-      st.beta /= 1 - q;
-    }
-  }
-  return true;
+  return path_bounce(path_world(ctx), opt, st, hit, shadow, skip_first_emission);
 }
 
 namespace {
@@ -152,13 +72,7 @@ Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, con
 }
 
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {
-  const RenderOptions& ro = ctx.options.render;
-  const uint32_t pixel = uint32_t(y) * uint32_t(camera.width()) + uint32_t(x);
-  Pcg32 rng = make_rng(pixel, uint32_t(frame), RngPass::camera, ro.seed, uint32_t(sample));
-  const uint64_t pixel_hash = mix64(hash_combine(ro.seed, pixel));
-  Vec2 u = pattern_sample(ro.sample_pattern, uint64_t(frame) * uint64_t(ro.spp) + uint64_t(sample), ro.spp, pixel_hash, rng);
-  Vec2 o = filter_offset(ctx.options.film.filter, ctx.options.film.filter_radius, u, rng);
-  return camera.generate_ray({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y});
+  return camera_ray(camera_sampling(ctx.options), camera, x, y, frame, sample);
 }
 
 namespace {
@@ -278,6 +192,13 @@ class PathTracer final : public Integrator {
 std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) {
   if (ctx.options.render.debug_view != DebugView::none)
     throw OptionError("render.debug_view: the path tracer has no debug views (they belong to the ReSTIR integrators)");
+  if (ctx.options.render.backend == Backend::cuda) {
+    try {
+      return make_cuda_path_tracer(ctx);
+    } catch (const std::runtime_error& e) {
+      throw OptionError(std::string("render.backend = cuda: ") + e.what());
+    }
+  }
   return std::make_unique<PathTracer>(ctx);
 }
 

@@ -3,6 +3,7 @@
 
 #include "core/rng.h"
 #include "integrators/integrator.h"
+#include "integrators/path_kernel.h"
 
 namespace rl {
 
@@ -14,24 +15,6 @@ struct PathStats {
   // alone and measure the share of frame time spent in traversal).
   std::vector<Ray>* record_rays = nullptr;
   std::vector<Ray>* record_shadow_rays = nullptr;
-};
-
-// The state of one path between bounces: what pbrt-v4's PathIntegrator::Li keeps in locals, as a
-// flat, trivially copyable record so that a wavefront loop can keep a buffer of them.
-struct PathState {
-  Ray ray;                   // the ray to trace next
-  Rgb L{0}, beta{1};         // radiance so far, throughput
-  Vec3 prev_p;               // the vertex `ray` left from
-  float prev_pdf = 0;        // solid-angle pdf of the direction that produced `ray`
-  bool specular = false;     // `ray` left a delta lobe
-  int depth = 0;             // bounces so far
-  Pcg32 rng;                 // the path's own random stream
-};
-// A next-event estimate waiting for its shadow ray: add `contribution` to L if `ray` is unoccluded.
-struct PendingShadow {
-  Ray ray;
-  Rgb contribution{0};
-  bool valid = false;
 };
 
 // One bounce of the path tracer, given the closest hit of st.ray (null: it escaped): adds the
@@ -53,13 +36,9 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
 // e.g. a G-buffer's primary hit: the same random numbers and the same result, one ray fewer.
 Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng);
 
-// Shadow ray from surface point p (geometric normal ng) to a light sample: toward its point, or
-// unbounded toward the environment. Both next-event estimators (path tracer, ReSTIR GI) use it.
-inline Ray shadow_ray_to_light(Vec3 p, Vec3 ng, const LightSample& ls, float eps) {
-  return ls.distance >= kInfinity ? spawn_ray(p, ng, ls.wi, eps) : spawn_ray_to(p, ng, ls.position, ls.normal, eps);
-}
-
-// Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
+// camera_ray (path_kernel.h) with the render's options.
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);
+// path_bounce (path_kernel.h) on the host's views of the context's scene and lights.
+PathWorld path_world(const RenderContext& ctx);
 
 }  // namespace rl

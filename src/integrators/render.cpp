@@ -39,15 +39,14 @@ void apply_scene_hints(Options& o, const SceneHints& h) {
 
 namespace {
 
-// render.backend's ray queries (null: the CPU backend, where the Embree Accel answers). A CUDA
-// backend missing from the build or the machine is an option error: the user asked for it.
-std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene& scene) {
-  if (backend == Backend::cpu) return nullptr;
-  try {
-    return make_cuda_queries(scene);
-  } catch (const std::runtime_error& e) {
-    throw OptionError(std::string("render.backend = cuda: ") + e.what());
-  }
+// render.backend's batched ray queries for the integrators that run on the CPU and trace through
+// RenderContext::queries. Null: the CPU backend (the Embree Accel answers), and the CUDA backend,
+// whose integrators (pt) hold their own device copy of the scene; for it, a CUDA backend missing
+// from the build or the machine is an option error here, before anything is built.
+std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene&) {
+  if (backend == Backend::cuda)
+    if (const std::string why = cuda_unavailable_reason(); !why.empty()) throw OptionError("render.backend = cuda: " + why);
+  return nullptr;
 }
 void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {
   const int width = 30;

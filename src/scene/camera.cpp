@@ -57,17 +57,6 @@ PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height
   }
 }
 
-Ray PerspectiveCamera::generate_ray(Vec2 raster) const {
-  // Raster -> screen: x in [-sx, sx] left to right, y in [sy, -sy] top to bottom (pbrt's raster-from-screen).
-  float sx = (raster.x / float(width_) * 2 - 1) * sx_;
-  float sy = (1 - raster.y / float(height_) * 2) * sy_;
-  Vec3 dir_cam = normalize(Vec3{sx * tan_half_, sy * tan_half_, 1});
-  Ray r;
-  r.o = position_;
-  r.d = normalize(world_from_camera_.apply_vector(dir_cam));
-  return r;
-}
-
 bool PerspectiveCamera::project(Vec3 world, Vec2& raster) const {
   Vec3 c = camera_from_world_.apply_point(world);
   if (c.z <= 0) return false;

@@ -12,13 +12,22 @@ class PerspectiveCamera {
  public:
   PerspectiveCamera(const CameraKey& key, int width, int height);
   // Primary ray through the raster position (x right, y down, in pixels; (0,0) is the top-left corner).
-  Ray generate_ray(Vec2 raster) const;
+  RESTIR_HD Ray generate_ray(Vec2 raster) const {
+    // Raster -> screen: x in [-sx, sx] left to right, y in [sy, -sy] top to bottom (pbrt's raster-from-screen).
+    const float sx = (raster.x / float(width_) * 2 - 1) * sx_;
+    const float sy = (1 - raster.y / float(height_) * 2) * sy_;
+    const Vec3 dir_cam = normalize(Vec3{sx * tan_half_, sy * tan_half_, 1});
+    Ray r;
+    r.o = position_;
+    r.d = normalize(world_from_camera_.apply_vector(dir_cam));
+    return r;
+  }
   // Raster position of a world point; false when it is behind the camera or off the film.
   bool project(Vec3 world, Vec2& raster) const;
   Vec3 position() const { return position_; }
   Vec3 forward() const { return forward_; }
-  int width() const { return width_; }
-  int height() const { return height_; }
+  RESTIR_HD int width() const { return width_; }
+  RESTIR_HD int height() const { return height_; }
 
  private:
   Mat4 world_from_camera_, camera_from_world_;

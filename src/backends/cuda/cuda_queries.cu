@@ -10,39 +10,14 @@
 #include "backends/bvh.h"
 #include "backends/bvh_traverse.h"
 #include "backends/cuda/cuda_queries.h"
+#include "backends/cuda/device_store.cuh"
 
 namespace rl {
 
 namespace {
 
-void check(cudaError_t e, const char* what) {
-  if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA error while ") + what + ": " + cudaGetErrorString(e));
-}
-
-// A device array that grows and never shrinks: batches reuse it (ARCHITECTURE.md: buffers are
-// allocated once per size, not per pass).
-template <class T>
-struct DeviceArray {
-  T* data = nullptr;
-  size_t capacity = 0;
-  DeviceArray() = default;
-  DeviceArray(const DeviceArray&) = delete;
-  DeviceArray& operator=(const DeviceArray&) = delete;
-  ~DeviceArray() {
-    if (data) cudaFree(data);
-  }
-  void reserve(size_t n) {
-    if (n <= capacity) return;
-    if (data) cudaFree(data);
-    data = nullptr, capacity = 0;
-    check(cudaMalloc(&data, n * sizeof(T)), "allocating device memory");
-    capacity = n;
-  }
-  void upload(const T* host, size_t n, cudaStream_t s) {
-    reserve(n);
-    if (n) check(cudaMemcpyAsync(data, host, n * sizeof(T), cudaMemcpyHostToDevice, s), "copying to the device");
-  }
-};
+using cuda::check;
+using cuda::DeviceArray;
 
 __global__ void intersect_kernel(BvhView bvh, const Ray* rays, Hit* hits, uint32_t n) {
   const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;

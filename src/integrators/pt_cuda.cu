@@ -1,0 +1,213 @@
+// The path tracer's wavefront on the GPU (pt_cuda.h). Every per-path function is the CPU's own
+// (path_kernel.h, bvh_traverse.h); this file only moves data and launches the stages.
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "backends/bvh.h"
+#include "backends/bvh_traverse.h"
+#include "backends/cuda/device_store.cuh"
+#include "integrators/path_kernel.h"
+#include "integrators/path_tracer.h"
+#include "integrators/pt_cuda.h"
+#include "scene/animation.h"
+
+namespace rl {
+
+namespace {
+
+using cuda::check;
+using cuda::DeviceArray;
+using cuda::DeviceStore;
+
+constexpr uint32_t kBlock = 128;
+inline uint32_t blocks_for(size_t n) { return uint32_t((n + kBlock - 1) / kBlock); }
+
+// ---------------------------------------------------------------- device copies of the views
+
+SceneView upload_scene(DeviceStore& store, const SceneView& h) {
+  std::vector<MeshView> meshes(h.meshes, h.meshes + h.mesh_count);
+  for (MeshView& m : meshes) {
+    m.positions = store.upload(m.positions, m.vertex_count);
+    m.normals = store.upload(m.normals, m.vertex_count);
+    m.uvs = store.upload(m.uvs, m.vertex_count);
+    m.indices = store.upload(m.indices, size_t(m.triangle_count) * 3);
+  }
+  std::vector<TextureView> textures(h.textures, h.textures + h.texture_count);
+  for (TextureView& t : textures)
+    t.image.pixels = store.upload(t.image.pixels, t.image.empty() ? 0 : size_t(t.image.width) * size_t(t.image.height));
+  SceneView d = h;
+  d.meshes = store.upload(meshes);
+  d.spheres = store.upload(h.spheres, h.sphere_count);
+  d.materials = store.upload(h.materials, h.material_count);
+  d.textures = store.upload(textures);
+  return d;
+}
+
+LightsView upload_lights(DeviceStore& store, const LightsView& h);  // below, with the lights' arrays
+
+// ---------------------------------------------------------------- the stages
+
+struct WaveArgs {
+  PerspectiveCamera camera;
+  CameraSampling sampling;
+  int frame = 0;
+  uint64_t begin = 0;  // first (pixel, sample) index of the wave
+  uint32_t spp = 1;
+  uint32_t width = 1;
+};
+
+__global__ void start_paths_kernel(WaveArgs a, PathState* paths, uint32_t* live, uint32_t n) {
+  const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  const uint64_t index = a.begin + i;
+  const uint32_t pixel = uint32_t(index / a.spp), s = uint32_t(index % a.spp);
+  const int x = int(pixel % a.width), y = int(pixel / a.width);
+  PathState st;
+  st.ray = camera_ray(a.sampling, a.camera, x, y, a.frame, int(s));
+  st.rng = make_rng(pixel, uint32_t(a.frame), RngPass::path, a.sampling.seed, s);
+  paths[i] = st;
+  live[i] = i;
+}
+
+__global__ void intersect_kernel(BvhView bvh, const PathState* paths, const uint32_t* live, uint32_t n, Hit* hits) {
+  const uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  Hit h;
+  bvh_trace(bvh, paths[live[k]].ray, false, &h);
+  hits[k] = h;
+}
+
+__global__ void shade_kernel(PathWorld world, PathOptions opt, PathState* paths, const uint32_t* live, uint32_t n, const Hit* hits,
+                             PendingShadow* shadows, uint8_t* alive) {
+  const uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  const Hit h = hits[k];
+  PendingShadow sh;
+  alive[k] = path_bounce(world, opt, paths[live[k]], h.valid() ? &h : nullptr, sh) ? 1 : 0;
+  shadows[k] = sh;
+}
+
+// Shadow rays, then the live paths compacted into next_live. The order of next_live depends on
+// the schedule, but each path keeps its own state and random stream, so the image does not.
+__global__ void shadow_compact_kernel(BvhView bvh, PathState* paths, const uint32_t* live, uint32_t n, const PendingShadow* shadows,
+                                      const uint8_t* alive, uint32_t* next_live, uint32_t* next_count) {
+  const uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  const PendingShadow& sh = shadows[k];
+  PathState& st = paths[live[k]];
+  if (sh.valid && !bvh_trace(bvh, sh.ray, true, nullptr)) st.L += sh.contribution;
+  if (alive[k]) next_live[atomicAdd(next_count, 1u)] = live[k];
+}
+
+// Pixel sums in path order (a pixel's samples in order, as the CPU adds them).
+__global__ void accumulate_kernel(const PathState* paths, uint64_t begin, uint32_t n, uint32_t spp, Rgb* sums) {
+  const uint64_t first_pixel = begin / spp, last_pixel = (begin + n - 1) / spp;
+  const uint64_t pixel = first_pixel + blockIdx.x * blockDim.x + threadIdx.x;
+  if (pixel > last_pixel) return;
+  const uint64_t a = std::max(begin, pixel * spp), b = std::min(begin + n, (pixel + 1) * spp);
+  Rgb s = sums[pixel];
+  for (uint64_t i = a; i < b; ++i) s += paths[i - begin].L;
+  sums[pixel] = s;
+}
+
+class CudaPathTracer final : public Integrator {
+ public:
+  explicit CudaPathTracer(const RenderContext& ctx) : ctx_(ctx) {
+    check(cudaSetDevice(0), "selecting device 0");
+    upload_world();
+  }
+
+  void render_frame(const FrameInfo& frame, Image& out) override {
+    if (frame.index > 0 && (scene_animated(ctx_.scene))) {  // the scene and its lights moved: copy them again
+      StageTimer timer(frame.stages, "upload");
+      upload_world();
+    }
+    const Options& o = ctx_.options;
+    const size_t spp = size_t(o.render.spp), pixels = out.size(), total = pixels * spp;
+    const size_t wave = std::min(total, kWave);
+    paths_.reserve(wave), live_.reserve(wave), next_live_.reserve(wave), hits_.reserve(wave), shadows_.reserve(wave);
+    alive_.reserve(wave), sums_.reserve(pixels), count_.reserve(1);
+    check(cudaMemset(sums_.data, 0, pixels * sizeof(Rgb)), "clearing the film");
+    WaveArgs args{*frame.camera, camera_sampling(o), frame.index, 0, uint32_t(spp), uint32_t(out.width)};
+    for (size_t begin = 0; begin < total; begin += kWave) {
+      const uint32_t n = uint32_t(std::min(kWave, total - begin));
+      args.begin = begin;
+      {
+        StageTimer timer(frame.stages, "camera");
+        start_paths_kernel<<<blocks_for(n), kBlock>>>(args, paths_.data, live_.data, n);
+        sync("generating camera rays");
+      }
+      for (uint32_t live = n; live > 0;) live = trace_bounce(frame, live);
+      accumulate_kernel<<<blocks_for(size_t(n) / spp + 2), kBlock>>>(paths_.data, begin, n, uint32_t(spp), sums_.data);
+      sync("adding up the pixels");
+      if (frame.progress) frame.progress(int(begin / kWave + 1), int((total + kWave - 1) / kWave));
+    }
+    check(cudaMemcpy(out.pixels.data(), sums_.data, pixels * sizeof(Rgb), cudaMemcpyDeviceToHost), "copying the image back");
+    for (Rgb& p : out.pixels) p = p / float(spp);  // non-finite values: the driver reports them
+  }
+
+ private:
+  static constexpr size_t kWave = size_t(1) << 20;  // paths in flight: enough threads for a large GPU
+
+  void sync(const char* what) {
+    check(cudaGetLastError(), what);
+    check(cudaDeviceSynchronize(), what);
+  }
+
+  // One bounce of the `live` paths listed in live_; returns how many go on (listed in live_ again).
+  uint32_t trace_bounce(const FrameInfo& frame, uint32_t live) {
+    {
+      StageTimer timer(frame.stages, "intersect");
+      intersect_kernel<<<blocks_for(live), kBlock>>>(bvh_, paths_.data, live_.data, live, hits_.data);
+      sync("tracing closest hits");
+    }
+    {
+      StageTimer timer(frame.stages, "shade");
+      shade_kernel<<<blocks_for(live), kBlock>>>(world_, ctx_.options.path, paths_.data, live_.data, live, hits_.data, shadows_.data,
+                                                 alive_.data);
+      sync("shading");
+    }
+    uint32_t next = 0;
+    {
+      StageTimer timer(frame.stages, "shadow");
+      check(cudaMemset(count_.data, 0, sizeof(uint32_t)), "clearing a counter");
+      shadow_compact_kernel<<<blocks_for(live), kBlock>>>(bvh_, paths_.data, live_.data, live, shadows_.data, alive_.data,
+                                                          next_live_.data, count_.data);
+      sync("tracing shadow rays");
+      check(cudaMemcpy(&next, count_.data, sizeof(uint32_t), cudaMemcpyDeviceToHost), "reading the live count");
+    }
+    std::swap(live_.data, next_live_.data);
+    std::swap(live_.capacity, next_live_.capacity);
+    return next;
+  }
+
+  // The scene, lights and BVH as they are now, copied to the device.
+  void upload_world() {
+    store_.clear();
+    const Bvh bvh = build_bvh(ctx_.scene);
+    bvh_ = BvhView{store_.upload(bvh.nodes), store_.upload(bvh.primitives), uint32_t(bvh.nodes.size()),
+                   uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+    world_.scene = upload_scene(store_, ctx_.accel.scene_view());
+    world_.lights = upload_lights(store_, ctx_.lights.view());
+    world_.ray_epsilon = ctx_.accel.ray_epsilon();
+  }
+
+  RenderContext ctx_;
+  DeviceStore store_;
+  BvhView bvh_;
+  PathWorld world_;
+  DeviceArray<PathState> paths_;
+  DeviceArray<uint32_t> live_, next_live_, count_;
+  DeviceArray<Hit> hits_;
+  DeviceArray<PendingShadow> shadows_;
+  DeviceArray<uint8_t> alive_;
+  DeviceArray<Rgb> sums_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_cuda_path_tracer(const RenderContext& ctx) { return std::make_unique<CudaPathTracer>(ctx); }
+
+}  // namespace rl
