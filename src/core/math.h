@@ -136,14 +136,14 @@ struct Mat4 {
       for (int j = 0; j < 4; ++j) r.m[i][j] = m[j][i];
     return r;
   }
-  Vec3 apply_point(Vec3 p) const {
+  RESTIR_HD Vec3 apply_point(Vec3 p) const {
     float x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
     float y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
     float z = m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3];
     float w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
     return w == 1 ? Vec3{x, y, z} : Vec3{x, y, z} / w;
   }
-  Vec3 apply_vector(Vec3 v) const {
+  RESTIR_HD Vec3 apply_vector(Vec3 v) const {
     return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
   }

@@ -57,26 +57,11 @@ AliasTable::AliasTable(std::span<const float> weights) {
   for (uint32_t i : small) bins_[i] = {1.0f, i};
 }
 
-uint32_t AliasTable::sample(float u, float* pmf, float* u_remapped) const {
-  const size_t n = bins_.size();
-  if (n == 0) {
-    if (pmf) *pmf = 0;
-    return 0;
-  }
-  float x = u * float(n);
-  uint32_t offset = std::min<uint32_t>(uint32_t(x), uint32_t(n - 1));
-  float up = std::min(x - float(offset), 0x1.fffffep-1f);
-  uint32_t idx;
-  if (up < bins_[offset].q) {
-    idx = offset;
-    if (u_remapped) *u_remapped = std::min(up / bins_[offset].q, 0x1.fffffep-1f);
-  } else {
-    idx = bins_[offset].alias;
-    if (u_remapped) *u_remapped = std::min((up - bins_[offset].q) / (1 - bins_[offset].q), 0x1.fffffep-1f);
-  }
-  if (pmf) *pmf = pmf_[idx];
-  return idx;
-}
+// Out of line as before: inlined, GCC warns about callers' u_remapped, which an empty table leaves
+// unwritten (-Wmaybe-uninitialized in tests/test_sampling.cpp).
+uint32_t AliasTable::sample(float u, float* pmf, float* u_remapped) const { return view().sample(u, pmf, u_remapped); }
+
+float AliasTable::pmf(uint32_t i) const { return view().pmf(i); }
 
 Distribution1D::Distribution1D(std::span<const float> f) : func_(f.begin(), f.end()), cdf_(f.size() + 1) {
   const size_t n = func_.size();

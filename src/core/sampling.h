@@ -92,21 +92,57 @@ float radical_inverse(uint32_t base_index, uint64_t a);
 
 // Walker / Vose alias table: O(1) sampling of a discrete distribution. Weights need not be
 // normalized; zero weights are never sampled.
+struct AliasBin {
+  float q = 0;      // probability of keeping this bin's own index
+  uint32_t alias = 0;
+};
+
+// The table's sampling as a flat, trivially copyable view (bins and pmf arrays of `size` entries
+// each, owned elsewhere), callable from device code. AliasTable::sample / pmf forward here.
+struct AliasTableView {
+  const AliasBin* bins = nullptr;
+  const float* pmfs = nullptr;  // pmfs[i]: the probability of index i
+  uint32_t size = 0;
+
+  // Returns the index; pmf (optional) receives its probability; u in [0,1). u_remapped (optional)
+  // receives the part of u left over after the choice, itself uniform in [0,1).
+  RESTIR_HD uint32_t sample(float u, float* pmf = nullptr, float* u_remapped = nullptr) const {
+    const uint32_t n = size;
+    if (n == 0) {
+      if (pmf) *pmf = 0;
+      return 0;
+    }
+    float x = u * float(n);
+    uint32_t offset = std::min<uint32_t>(uint32_t(x), uint32_t(n - 1));
+    float up = std::min(x - float(offset), 0x1.fffffep-1f);
+    uint32_t idx;
+    if (up < bins[offset].q) {
+      idx = offset;
+      if (u_remapped) *u_remapped = std::min(up / bins[offset].q, 0x1.fffffep-1f);
+    } else {
+      idx = bins[offset].alias;
+      if (u_remapped) *u_remapped = std::min((up - bins[offset].q) / (1 - bins[offset].q), 0x1.fffffep-1f);
+    }
+    if (pmf) *pmf = pmfs[idx];
+    return idx;
+  }
+  RESTIR_HD float pmf(uint32_t i) const { return i < size ? pmfs[i] : 0.0f; }
+};
+
 class AliasTable {
  public:
+  using Bin = AliasBin;
   AliasTable() = default;
   explicit AliasTable(std::span<const float> weights);
-  // Returns the index; pmf (optional) receives its probability; u in [0,1).
+  // Returns the index; pmf (optional) receives its probability; u in [0,1). Both forward to view().
   uint32_t sample(float u, float* pmf = nullptr, float* u_remapped = nullptr) const;
-  float pmf(uint32_t i) const { return i < pmf_.size() ? pmf_[i] : 0.0f; }
+  float pmf(uint32_t i) const;
   size_t size() const { return pmf_.size(); }
   double total_weight() const { return total_; }
+  // Points into this table's arrays: valid until the table is changed, moved or destroyed.
+  AliasTableView view() const { return {bins_.data(), pmf_.data(), uint32_t(pmf_.size())}; }
 
  private:
-  struct Bin {
-    float q = 0;      // probability of keeping this bin's own index
-    uint32_t alias = 0;
-  };
   std::vector<Bin> bins_;
   std::vector<float> pmf_;
   double total_ = 0;

@@ -1,0 +1,227 @@
+// The per-sample half of Lights (scene/lights.h) as a flat, trivially copyable view: selection,
+// point sampling and pdfs of the scene's emitters, callable from the host and from CUDA device code
+// (RESTIR_HD; ARCHITECTURE.md, "Backends"). Lights builds the tables from the Scene and owns them;
+// LightsView only points into them, and every Lights per-sample method forwards here (one
+// implementation). The contracts of the functions are documented on Lights' forwarders.
+//
+// Building a device copy (the CUDA backend): every array the view reads is a public pointer field
+// with its element count next to it (the table below). Copy each array to device memory
+// (cudaMemcpy of count * sizeof(element) bytes), then copy the host view and replace each pointer
+// with its device array; the scalar fields (env_mapping, env_scale, the two Mat4, env_emitter) and
+// the counts are copied as they are. The result is passed to kernels by value.
+//
+//   pointer                  element          count
+//   emitters                 LightEmitter     num_emitters
+//   selection.bins           AliasBin         selection.size
+//   selection.pmfs           float            selection.size
+//   mesh_first               uint32_t         num_meshes
+//   sphere_index             uint32_t         num_spheres
+//   env_pixels               Rgb              env_width * env_height (0 for a constant environment)
+//   env_rows.bins            AliasBin         env_rows.size
+//   env_rows.pmfs            float            env_rows.size
+//   env_col_bins             AliasBin         num_env_col_entries
+//   env_col_pmfs             float            num_env_col_entries
+//   env_col_offsets          uint32_t         num_env_col_offsets (env_height + 1, or 0)
+//
+// A view is valid as long as the Lights it came from is alive and unchanged (Lights re-points its
+// view when it is copied or moved; take view() again after that).
+//
+// Conventions
+// - Triangle geometric normal: scene.h's triangle_normal() (normalize(cross(p1 - p0, p2 - p0)),
+//   negated when flip_normal; shading normals decide when present). Sphere: (p - c) / r, negated
+//   when flip_normal. Emission leaves on the normal's side only, unless two_sided.
+// - A sample that would carry no radiance (the back of a one-sided emitter, a zero-area triangle,
+//   a degenerate configuration) is reported as "no sample" (false), and pdf() is 0 for exactly
+//   those points, so pdf() is the density of the samples sample() returns.
+// - Environment maps (light space, then world_from_light):
+//   * equirect (pbrt-v3 InfiniteAreaLight convention, +z up in light space):
+//     u = phi / 2pi with phi = atan2(y, x) in [0, 2pi), v = theta / pi with theta = acos(z);
+//     texel (floor(u W), floor(v H)), row 0 at the top of the image (v = 0 is +z).
+//     Sampling density over (u, v) is luminance * sin(theta_row centre); pdf_dir = pdf_uv / (2 pi^2 sin theta).
+//   * equal_area: pbrt-v4's equal-area octahedral map (Clarberg 2008), (u, v) = EqualAreaSphereToSquare(w),
+//     texel (floor(u W), floor(v H)) with row 0 at v = 0 (pbrt-v4 image lookup); pdf_dir = pdf_uv / 4pi.
+//   * Nearest-texel lookup: radiance is piecewise constant on the texels, so the piecewise-constant
+//     sampling pdf is exactly proportional to the luminance (times the mapping's Jacobian).
+//   * constant: uniform sphere sampling, pdf 1 / 4pi.
+#pragma once
+#include <cstdint>
+
+#include "core/math.h"
+#include "core/sampling.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+inline constexpr uint32_t kNoEmitter = 0xffffffffu;
+
+struct LightSample {
+  Rgb radiance;       // emitted radiance arriving along -wi (intensity / dist^2 for point lights); NOT divided by pdf
+  Vec3 wi;            // unit direction from the shading point toward the light
+  float distance = 0; // to the light point (kInfinity for the environment)
+  float pdf = 0;      // solid-angle pdf INCLUDING the selection probability; point lights: the selection probability
+  bool is_delta = false;  // point light
+  Vec3 position, normal;  // on the light (normal zero for point / environment; environment: position = wi)
+  uint32_t emitter = kNoEmitter;
+};
+
+// A point on an emitter drawn independently of any receiving point (ReSTIR DI's light
+// candidates, Bitterli et al. 2020 §3: cheap to generate, reusable across pixels).
+struct EmitterPoint {
+  Vec3 position;   // on the emitter; the direction for the environment
+  Vec3 normal;     // geometric normal (zero for point lights / environment)
+  uint32_t emitter = 0xffffffffu;
+  float pdf = 0;   // selection pmf x density in the emitter's measure: 1/area (triangles, spheres,
+                   // uniform by area), solid angle (environment), 1 (point lights)
+};
+
+enum class LightKind : uint8_t { triangle, sphere, point, environment };
+
+struct LightEmitter {
+  LightKind kind = LightKind::triangle;
+  Vec3 p0, p1, p2;      // triangle vertices; sphere: p0 = centre; point: p0 = position
+  Vec3 n;               // triangle geometric normal
+  float area = 0;       // triangle area; sphere: radius in `radius`
+  float radius = 0;
+  bool flip = false;    // sphere normals inward
+  bool two_sided = false;
+  Rgb radiance;         // L (area emitters) or I (point light)
+  float power = 0;
+};
+
+namespace lights_detail {
+
+inline constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+RESTIR_HD inline bool finite_positive(float v) { return v > 0 && std::isfinite(v); }
+
+// Light-space direction <-> equirect (u, v) (pbrt-v3 InfiniteAreaLight: u = phi / 2pi, v = theta / pi).
+RESTIR_HD inline Vec2 equirect_uv(Vec3 w) {
+  float phi = std::atan2(w.y, w.x);
+  if (phi < 0) phi += 2 * kPi;
+  float theta = std::acos(clamp(w.z, -1.0f, 1.0f));
+  const float one_minus_epsilon = kOneMinusEpsilon;  // a local: std::min binds references (device code)
+  return {std::min(phi * kInv2Pi, one_minus_epsilon), std::min(theta * kInvPi, one_minus_epsilon)};
+}
+
+}  // namespace lights_detail
+
+// pbrt-v4's equal-area square <-> sphere mapping (Clarberg 2008, "Fast Equal-Area Mapping of the
+// (Hemi)Sphere using SIMD"); p in [0,1]^2. Exposed for tests and the scene loader.
+//
+// pbrt-v4 EqualAreaSquareToSphere (Clarberg 2008): the signed distance to the square's diagonal
+// gives z = +-(1 - r^2); the position along the diamond edge gives phi; |(x, y)| = r sqrt(2 - r^2).
+RESTIR_HD inline Vec3 equal_area_square_to_sphere(Vec2 p) {
+  float u = 2 * p.x - 1, v = 2 * p.y - 1;
+  float up = std::fabs(u), vp = std::fabs(v);
+  float signed_distance = 1 - (up + vp);
+  float d = std::fabs(signed_distance);
+  float r = 1 - d;
+  float phi = (r == 0 ? 1 : (vp - up) / r + 1) * kPi / 4;
+  float z = std::copysign(1 - r * r, signed_distance);
+  float cos_phi = std::copysign(std::cos(phi), u);
+  float sin_phi = std::copysign(std::sin(phi), v);
+  float s = r * safe_sqrt(2 - r * r);
+  return {cos_phi * s, sin_phi * s, z};
+}
+
+// Inverse of the above (pbrt-v4 EqualAreaSphereToSquare; std::atan instead of its polynomial).
+RESTIR_HD inline Vec2 equal_area_sphere_to_square(Vec3 w) {
+  float x = std::fabs(w.x), y = std::fabs(w.y), z = std::fabs(w.z);
+  float r = safe_sqrt(1 - z);
+  float a = std::max(x, y), b = std::min(x, y);
+  b = a == 0 ? 0 : b / a;
+  float phi = std::atan(b) * 2 * kInvPi;
+  if (x < y) phi = 1 - phi;
+  float v = phi * r;
+  float u = r - v;
+  if (w.z < 0) {
+    const float t = u;  // swap u and v
+    u = v;
+    v = t;
+    u = 1 - u;
+    v = 1 - v;
+  }
+  u = std::copysign(u, w.x);
+  v = std::copysign(v, w.y);
+  return {clamp(0.5f * (u + 1), 0.0f, lights_detail::kOneMinusEpsilon),
+          clamp(0.5f * (v + 1), 0.0f, lights_detail::kOneMinusEpsilon)};
+}
+
+struct LightsView {
+  // Emitters (one per emissive triangle, emissive sphere, point light, and the environment).
+  const LightEmitter* emitters = nullptr;
+  uint32_t num_emitters = 0;
+  AliasTableView selection;                 // over the emitters: by power or uniform
+  const uint32_t* mesh_first = nullptr;     // per mesh: first emitter index or kNoEmitter
+  uint32_t num_meshes = 0;
+  const uint32_t* sphere_index = nullptr;   // per sphere: emitter index or kNoEmitter
+  uint32_t num_spheres = 0;
+  uint32_t env_emitter = kNoEmitter;
+
+  // Environment
+  EnvironmentLight::Mapping env_mapping = EnvironmentLight::Mapping::constant;
+  Rgb env_scale{0};
+  const Rgb* env_pixels = nullptr;          // row-major, row 0 at the top (Image::pixels)
+  int env_width = 0, env_height = 0;
+  Mat4 env_world_from_light, env_light_from_world;
+  // Texel selection (see Lights' tables): env_rows picks the row y, then row y's column table is
+  // the entries [env_col_offsets[y], env_col_offsets[y + 1]) of env_col_bins / env_col_pmfs (empty
+  // for a row of zero weight).
+  AliasTableView env_rows;
+  const AliasBin* env_col_bins = nullptr;
+  const float* env_col_pmfs = nullptr;
+  uint32_t num_env_col_entries = 0;
+  const uint32_t* env_col_offsets = nullptr;
+  uint32_t num_env_col_offsets = 0;
+
+  RESTIR_HD uint32_t emitter_count() const { return num_emitters; }
+  RESTIR_HD bool empty() const { return num_emitters == 0; }
+  RESTIR_HD bool has_environment() const { return env_emitter != kNoEmitter; }
+  RESTIR_HD uint32_t environment_emitter() const { return env_emitter; }
+  RESTIR_HD LightKind kind(uint32_t emitter) const { return emitters[emitter].kind; }
+  RESTIR_HD float power(uint32_t emitter) const { return emitter < num_emitters ? emitters[emitter].power : 0.0f; }
+  RESTIR_HD Rgb point_intensity(uint32_t emitter) const {
+    return emitter < num_emitters && emitters[emitter].kind == LightKind::point ? emitters[emitter].radiance : Rgb(0);
+  }
+  RESTIR_HD float selection_pmf(uint32_t emitter) const { return selection.pmf(emitter); }
+  RESTIR_HD uint32_t triangle_emitter(uint32_t mesh, uint32_t triangle) const {
+    if (mesh >= num_meshes || mesh_first[mesh] == kNoEmitter) return kNoEmitter;
+    return mesh_first[mesh] + triangle;
+  }
+  RESTIR_HD uint32_t sphere_emitter(uint32_t sphere) const {
+    return sphere < num_spheres ? sphere_index[sphere] : kNoEmitter;
+  }
+  // Row y's column table (y < env_height of an image environment).
+  RESTIR_HD AliasTableView env_cols(uint32_t y) const {
+    return {env_col_bins + env_col_offsets[y], env_col_pmfs + env_col_offsets[y],
+            env_col_offsets[y + 1] - env_col_offsets[y]};
+  }
+
+  // Bodies in scene/lights_view_inl.h.
+  RESTIR_HD bool sample(Vec3 p, float u_select, Vec2 u, LightSample& out) const;
+  RESTIR_HD uint32_t select_emitter(float u, float* pmf) const;
+  RESTIR_HD bool sample_emitter(uint32_t e, Vec3 p, Vec2 u, LightSample& out) const;
+  RESTIR_HD float pdf(uint32_t emitter, Vec3 p, Vec3 light_p, Vec3 light_n) const;
+  RESTIR_HD bool sample_point(float u_select, Vec2 u, EmitterPoint& out) const;
+  RESTIR_HD float point_pdf(uint32_t emitter, Vec3 position) const;
+  RESTIR_HD float environment_pdf(Vec3 dir) const;
+  RESTIR_HD Rgb environment_radiance(Vec3 dir) const;
+  RESTIR_HD Rgb emitted(uint32_t emitter, Vec3 n, Vec3 w) const;
+
+ private:
+  // Radiance and unselected solid-angle pdf of the texel a world direction looks up, in one go.
+  struct EnvLookup {
+    Rgb radiance{0};
+    float pdf = 0;
+  };
+  RESTIR_HD bool sample_triangle(const LightEmitter& e, Vec3 p, Vec2 u, LightSample& out) const;
+  RESTIR_HD bool sample_sphere(const LightEmitter& e, Vec3 p, Vec2 u, LightSample& out) const;
+  RESTIR_HD bool sample_environment(Vec2 u, LightSample& out) const;
+  RESTIR_HD float environment_pdf_unselected(Vec3 dir) const;
+  RESTIR_HD EnvLookup environment_lookup(Vec3 dir) const;
+  RESTIR_HD Rgb emitted_by(const LightEmitter& e, Vec3 n, Vec3 w) const;
+};
+
+}  // namespace rl
+
+#include "scene/lights_view_inl.h"
