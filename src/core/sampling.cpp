@@ -4,24 +4,6 @@
 
 namespace rl {
 
-namespace {
-constexpr uint32_t kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
-}
-
-float radical_inverse(uint32_t base_index, uint64_t a) {
-  uint32_t base = kPrimes[base_index % (sizeof(kPrimes) / sizeof(kPrimes[0]))];
-  double inv_base = 1.0 / base, inv_base_m = 1.0;
-  uint64_t reversed = 0;
-  while (a) {
-    uint64_t next = a / base;
-    uint64_t digit = a - next * base;
-    reversed = reversed * base + digit;
-    inv_base_m *= inv_base;
-    a = next;
-  }
-  return float(std::min(double(reversed) * inv_base_m, double(0x1.fffffep-1)));
-}
-
 AliasTable::AliasTable(std::span<const float> weights) {
   const size_t n = weights.size();
   bins_.assign(n, {});

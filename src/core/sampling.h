@@ -87,8 +87,22 @@ RESTIR_HD inline float power_heuristic(float pa, float pb) {
   return a + b > 0 ? a / (a + b) : 0.0f;
 }
 
-// Radical inverse in base b (Halton sequence component).
-float radical_inverse(uint32_t base_index, uint64_t a);
+// Radical inverse of a in the base_index-th prime base (Halton sequence component).
+RESTIR_HD inline float radical_inverse(uint32_t base_index, uint64_t a) {
+  const uint32_t primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};  // local: device code
+  const uint32_t base = primes[base_index % 16u];
+  const double inv_base = 1.0 / base;
+  double inv_base_m = 1.0;
+  uint64_t reversed = 0;
+  while (a) {
+    const uint64_t next = a / base;
+    const uint64_t digit = a - next * base;
+    reversed = reversed * base + digit;
+    inv_base_m *= inv_base;
+    a = next;
+  }
+  return float(std::min(double(reversed) * inv_base_m, double(0x1.fffffep-1)));
+}
 
 // Walker / Vose alias table: O(1) sampling of a discrete distribution. Weights need not be
 // normalized; zero weights are never sampled.

@@ -45,7 +45,22 @@ SceneView upload_scene(DeviceStore& store, const SceneView& h) {
   return d;
 }
 
-LightsView upload_lights(DeviceStore& store, const LightsView& h);  // below, with the lights' arrays
+// lights_view.h's recipe: each array copied, the view's pointers replaced.
+LightsView upload_lights(DeviceStore& store, const LightsView& h) {
+  LightsView d = h;
+  d.emitters = store.upload(h.emitters, h.num_emitters);
+  d.selection.bins = store.upload(h.selection.bins, h.selection.size);
+  d.selection.pmfs = store.upload(h.selection.pmfs, h.selection.size);
+  d.mesh_first = store.upload(h.mesh_first, h.num_meshes);
+  d.sphere_index = store.upload(h.sphere_index, h.num_spheres);
+  d.env_pixels = store.upload(h.env_pixels, h.env_pixels ? size_t(h.env_width) * size_t(h.env_height) : 0);
+  d.env_rows.bins = store.upload(h.env_rows.bins, h.env_rows.size);
+  d.env_rows.pmfs = store.upload(h.env_rows.pmfs, h.env_rows.size);
+  d.env_col_bins = store.upload(h.env_col_bins, h.num_env_col_entries);
+  d.env_col_pmfs = store.upload(h.env_col_pmfs, h.num_env_col_entries);
+  d.env_col_offsets = store.upload(h.env_col_offsets, h.num_env_col_offsets);
+  return d;
+}
 
 // ---------------------------------------------------------------- the stages
 

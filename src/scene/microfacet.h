@@ -95,7 +95,7 @@ RESTIR_HD inline float fresnel_dielectric(float cos_i, float eta) {
 // as pbrt-v4's FrComplex (PBR4 eq. 9.6 with complex eta), written in real arithmetic as pbrt-v3's
 // FrConductor (PBR3 sec. 8.2.1; Born & Wolf): std::complex division and sqrt cost more than the
 // ray queries on conductor-heavy scenes. One wavelength (RGB channel) at a time.
-inline float fresnel_complex(float cos_i, float eta, float k) {
+RESTIR_HD inline float fresnel_complex(float cos_i, float eta, float k) {
   cos_i = clamp(cos_i, 0.0f, 1.0f);
   const float cos2 = cos_i * cos_i, sin2 = 1 - cos2;
   const float eta2 = eta * eta, k2 = k * k;
@@ -111,7 +111,7 @@ inline float fresnel_complex(float cos_i, float eta, float k) {
   const float r = 0.5f * (rp + rs);
   return std::isfinite(r) ? clamp(r, 0.0f, 1.0f) : 1.0f;
 }
-inline Rgb fresnel_complex(float cos_i, Rgb eta, Rgb k) {
+RESTIR_HD inline Rgb fresnel_complex(float cos_i, Rgb eta, Rgb k) {
   return {fresnel_complex(cos_i, eta.x, k.x), fresnel_complex(cos_i, eta.y, k.y), fresnel_complex(cos_i, eta.z, k.z)};
 }
 
