@@ -18,8 +18,10 @@ using namespace rl::test;
 namespace {
 
 const std::vector<std::string>& test_scenes() {
+  // The three, plus spheres and 2400 emitters (many-lights) and an HDR environment map
+  // (env-object): every kind of light the device copy of the lights must carry.
   static const std::vector<std::string> s = {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"),
-                                             own_scene("teapot.pbrt")};
+                                             own_scene("teapot.pbrt"), own_scene("many-lights.pbrt"), own_scene("env-object.pbrt")};
   return s;
 }
 
