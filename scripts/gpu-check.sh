@@ -15,6 +15,8 @@
 #
 # RESULTS defaults to $OUT/gpu-results.txt when OUT is set, else gpu-results.txt in the current
 # directory. Exit status: that of restir_gpu_tests (77 = no usable GPU: nothing was checked).
+# RESTIR_GPU_DRY_RUN=1 runs the test cases with the CPU standing in for the GPU (a rehearsal on a
+# machine without one: every scene loads, every case runs).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 default_results() { if [ -n "${OUT:-}" ]; then echo "$OUT/gpu-results.txt"; else echo "$PWD/gpu-results.txt"; fi; }
@@ -27,7 +29,7 @@ run_checks() {
   shift
   local runner=("$@")
   {
-    echo "# restir-lab GPU check, $(date -u +%Y-%m-%dT%H:%MZ), $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo bundle)"
+    echo "# restir-lab GPU check, $(date -u +%Y-%m-%dT%H:%MZ), commit ${COMMIT:-$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
     nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null || true
   } >"$results"
   local status=0
@@ -59,15 +61,17 @@ case "${1:-}" in
     stage="$(mktemp -d)"
     trap 'rm -rf "$stage"' EXIT
     b="$stage/restir-gpu"
-    mkdir -p "$b/bin" "$b/lib" "$b/shared/scenes" "$b/scenes"
+    # The repository's layout (repo/scenes beside shared/scenes): scenes refer to ../../shared.
+    mkdir -p "$b/bin" "$b/lib" "$b/shared/scenes" "$b/repo/scenes"
     cp "$ROOT/build-gpu/bin/restir_gpu_tests" "$ROOT/build-gpu/bin/bench_gpu" "$b/bin/"
     # Every library the programs load, resolved through links; the CUDA driver (libcuda) is the GPU
     # machine's own and is not linked here (the static CUDA runtime opens it at run time).
     for lib in $(ldd "$b/bin/restir_gpu_tests" "$b/bin/bench_gpu" | awk '$2 == "=>" && $3 ~ /^\// {print $3} $1 ~ /^\/.*ld-linux/ {print $1}' | sort -u); do
       cp -L "$lib" "$b/lib/$(basename "$lib")"
     done
-    cp -r "$ROOT/../shared/scenes/cornell-box" "$ROOT/../shared/scenes/veach-mis" "$b/shared/scenes/"
-    cp -r "$ROOT/scenes/." "$b/scenes/"
+    cp -r "$ROOT/../shared/scenes/cornell-box" "$ROOT/../shared/scenes/veach-mis" "$ROOT/../shared/scenes/envmaps" "$b/shared/scenes/"
+    cp -r "$ROOT/scenes/." "$b/repo/scenes/"
+    git -C "$ROOT" rev-parse --short HEAD >"$b/COMMIT" 2>/dev/null || echo unknown >"$b/COMMIT"
     tar -C "$stage" -cJf "$out.tmp" restir-gpu
     mv "$out.tmp" "$out"
     echo "bundle: $out ($(du -h "$out" | cut -f1))"
@@ -78,8 +82,9 @@ case "${1:-}" in
     dest="$(mktemp -d)"
     tar -C "$dest" -xJf "$archive"
     b="$dest/restir-gpu"
-    export RESTIR_SHARED_DIR="$b/shared" RESTIR_SOURCE_DIR="$b"
-    SCENES_SHARED="$b/shared" SCENES_OWN="$b"
+    export RESTIR_SHARED_DIR="$b/shared" RESTIR_SOURCE_DIR="$b/repo"
+    COMMIT="$(cat "$b/COMMIT")"
+    SCENES_SHARED="$b/shared" SCENES_OWN="$b/repo"
     loader="$(ls "$b"/lib/ld-linux-*.so.* | head -1)"
     run_checks "$results" "$b/bin" "$loader" --library-path "$b/lib:${LD_LIBRARY_PATH:-}"
     ;;

@@ -17,6 +17,15 @@ using namespace rl::test;
 
 namespace {
 
+// RESTIR_GPU_DRY_RUN=1: the "GPU" side runs on the CPU (Backend::cpu, the host traversal), to
+// check on a machine without a GPU that every scene loads and every case runs (GPU time is scarce).
+bool g_dry_run = false;
+Backend gpu_backend() { return g_dry_run ? Backend::cpu : Backend::cuda; }
+std::unique_ptr<RayQueries> gpu_queries(const Scene& scene) {
+  if (g_dry_run) return std::make_unique<BvhQueries>(scene);
+  return make_cuda_queries(scene);
+}
+
 const std::vector<std::string>& test_scenes() {
   // The issue's three, plus spheres and 2400 emitters (many-lights) and an HDR environment map
   // (env-object): every kind of light the device copy of the lights must carry.
@@ -64,7 +73,7 @@ TEST_CASE("CUDA ray queries answer as the host traversal of the same BVH") {
     Scene scene = load_scene(path);
     const std::vector<Ray> rays = random_rays(scene, 200000, 3);
     BvhQueries host(scene);
-    const auto gpu = make_cuda_queries(scene);
+    const auto gpu = gpu_queries(scene);
     std::vector<Hit> a(rays.size()), b(rays.size());
     std::vector<uint8_t> oa(rays.size()), ob(rays.size());
     host.intersect_batch(rays, a);
@@ -91,7 +100,7 @@ TEST_CASE("pt: CPU and CUDA renders agree (4 seeds stacked; mean 0.5%, 8x8 block
     Scene scene = load_scene(path);
     Options o = options_for(scene, {"film.width=128", "film.height=96", "render.spp=16"});
     const Image cpu = stacked(scene, o, 4);
-    o.render.backend = Backend::cuda;
+    o.render.backend = gpu_backend();
     check_agree(cpu, stacked(scene, o, 4));
   }
 }
@@ -100,7 +109,7 @@ TEST_CASE("an animated scene: the CUDA BVH follows the moving objects") {
   Scene scene = load_scene(own_scene("dynamic-room.pbrt"));
   Options o = options_for(scene, {"film.width=96", "film.height=64", "render.spp=16", "render.frames=4"});
   const Image cpu = render(scene, o).last;
-  o.render.backend = Backend::cuda;
+  o.render.backend = gpu_backend();
   check_agree(cpu, render(scene, o).last);
 }
 
@@ -110,18 +119,23 @@ TEST_CASE("switching render.backend in a running FrameRenderer (the viewer's pat
   FrameRenderer fr(scene, o);
   Image cpu, gpu;
   fr.render_frame(scene.camera.at_frame(0, 1), 1, cpu, nullptr);
-  o.render.backend = Backend::cuda;
+  o.render.backend = gpu_backend();
   fr.reset(o);
   fr.render_frame(scene.camera.at_frame(0, 1), 1, gpu, nullptr);
   check_agree(cpu, gpu);
 }
 
 int main(int argc, char** argv) {
-  if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
+  const char* dry = std::getenv("RESTIR_GPU_DRY_RUN");
+  g_dry_run = dry && std::string(dry) == "1";
+  if (g_dry_run) {
+    std::printf("restir_gpu_tests: DRY RUN on the CPU (RESTIR_GPU_DRY_RUN=1): checks the cases, not the GPU\n");
+  } else if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
     std::printf("restir_gpu_tests: skipped: %s\n", why.c_str());
     return 77;
+  } else {
+    std::printf("restir_gpu_tests on %s\n", cuda_device_description().c_str());
   }
-  std::printf("restir_gpu_tests on %s\n", cuda_device_description().c_str());
   doctest::Context ctx(argc, argv);
   return ctx.run();
 }
