@@ -64,6 +64,49 @@ TEST_SUITE("restir_di") {
     CHECK(none.tile_of(3, 4, 320, 3, 7, 0).empty());
   }
 
+  TEST_CASE("environment tiles: presampled directions carry the map's radiance and density; E[1/pdf] = 4 pi") {
+    Scene scene = load_scene(own_scene("env-object.pbrt"));  // the courtyard HDR map
+    Lights lights(scene, LightSelection::power);
+    REQUIRE(lights.has_environment());
+    const float env_pmf = lights.selection_pmf(lights.environment_emitter());
+    LightTiles tiles;
+    tiles.build(lights, 64, 16, 3, 7, 0, 1024);
+    std::set<const EnvTileEntry*> seen;
+    double sum = 0, sum2 = 0;
+    size_t n = 0, bad = 0;
+    for (int b = 0; b < 4096 && seen.size() < 64; ++b) {
+      auto t = tiles.env_tile_of((b % 256) * 16, (b / 256) * 16, 256 * 16, 3, 7, 0);
+      REQUIRE(t.size() == 1024);
+      if (!seen.insert(t.data()).second) continue;
+      for (const EnvTileEntry& e : t) {
+        REQUIRE(e.pdf > 0);
+        // What the candidate uses without looking the map up again must be what a lookup gives.
+        const Rgb L = lights.environment_radiance(e.direction);
+        bad += std::fabs(e.pdf - lights.environment_pdf(e.direction) / env_pmf) > 1e-4f * e.pdf || !(L == e.radiance);
+        sum += 1.0 / e.pdf, sum2 += 1.0 / (double(e.pdf) * e.pdf), ++n;
+      }
+    }
+    REQUIRE(seen.size() == 64);
+    CHECK(bad == 0);
+    // Entries drawn by the map's density p: E[1/p] = the sphere's solid angle (p > 0 everywhere on
+    // this map). A density off by a factor, or entries drawn from another distribution, moves it.
+    const double mean = sum / double(n), se = std::sqrt((sum2 / double(n) - mean * mean) / double(n));
+    CAPTURE(mean);
+    CAPTURE(se);
+    CHECK(std::fabs(mean - 4 * kPi) < 4 * se);
+    CHECK(se < 0.02 * 4 * kPi);  // the check has power: a 10 % error is > 5 se away
+    // The emitter tile of the same block is the same tile; no environment or no size: no entries.
+    LightTiles plain;
+    plain.build(lights, 64, 16, 3, 7, 0);
+    CHECK(plain.env_tile_of(3, 4, 320, 3, 7, 0).empty());
+    CHECK(tiles.tile_of(3, 4, 320, 3, 7, 0)[5].emitter == plain.tile_of(3, 4, 320, 3, 7, 0)[5].emitter);
+    Scene no_env = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt");
+    Lights nl(no_env, LightSelection::power);
+    LightTiles none;
+    none.build(nl, 4, 16, 3, 7, 0, 1024);
+    CHECK(none.env_tile_of(3, 4, 320, 3, 7, 0).empty());
+  }
+
   TEST_CASE("M-cap: temporal history confidence stays <= (max_history + 1) x the new candidates; uncapped it grows") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     Options o = di_options(scene, 16, {"di.spatial_neighbors=0", "render.frames=30", "render.debug_view=confidence",

@@ -173,6 +173,34 @@ Shape "trianglemesh" "point3 P" [ -0.3 0 -0.3  0.3 0 -0.3  0.3 1.2 -0.3  -0.3 1.
     certify_one("restir-di light tiles", path, scene, o, certification(o.di.reuse.spatial_mis, 400, 400, 32768));
   }
 
+  TEST_CASE("ReSTIR DI with presampled environment directions (env tiles) is equivalent to direct lighting") {
+    // An HDR map (the interior) and one small quad light over a floor and a box; four tiles of 16
+    // emitter entries and 16 environment directions per frame, one tile block for the whole 16x16
+    // image: every pixel of a frame draws its environment candidates from the same 16 directions.
+    const std::string path = std::string(RESTIR_BINARY_DIR) + "/di-env-tiles.pbrt";
+    {
+      std::ofstream f(path);
+      f << "LookAt 0 2.2 -4.5  0 0.4 0.5  0 1 0\nCamera \"perspective\" \"float fov\" 45\n"
+           "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\nWorldBegin\n"
+           "LightSource \"infinite\" \"string filename\" \"" << shared_scene("envmaps/interior.exr") << "\" \"float scale\" 1\n"
+        << R"(AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [6 5.6 5]
+  Shape "trianglemesh" "point3 P" [ -2.5 1.6 -0.5 -2.5 3.1 -0.5 -1.0 3.1 -0.5 -1.0 1.6 -0.5 ] "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [0.6 0.6 0.6]
+Shape "trianglemesh" "point3 P" [ -3 0 -3 -3 0 3 3 0 3 3 0 -3 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "conductor" "float roughness" 0.3
+Shape "trianglemesh" "point3 P" [ -0.6 0 -0.6 0.6 0 -0.6 0.6 1.2 -0.6 -0.6 1.2 -0.6 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+    }
+    Scene scene = load_scene(path);
+    Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
+                                    "film.width=16", "film.height=16", "path.max_depth=1", "di.light_candidates=8",
+                                    "di.bsdf_candidates=1", "di.light_tiles=4", "di.light_tile_size=16", "di.env_tile_size=16",
+                                    "di.spatial_neighbors=6", "di.spatial_radius=4"});
+    certify_one("restir-di env tiles", path, scene, o, certification(o.di.reuse.spatial_mis, 400, 400, 32768));
+  }
+
   TEST_CASE("ReSTIR GI with temporal and spatial reuse is equivalent to the path tracer on a diffuse scene") {
     // GI's cached radiance is exact on diffuse sample points only (restir_gi.cpp): the shared Cornell box.
     const std::string path = shared_scene("cornell-box/scene-v4.pbrt");

@@ -97,7 +97,8 @@ float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& 
 }
 
 DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
-                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile) {
+                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile,
+                                 std::span<const EnvTileEntry> env_tile) {
   DiReservoir r;
   r.confidence = float(light_candidates + bsdf_candidates);
   if (!s.valid || ctx.lights.empty() || bsdf_is_delta(s.bsdf)) return r;
@@ -139,8 +140,19 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     } else {
       e = ctx.lights.select_emitter(u_select, &pmf);
     }
+    if (e == kNoEmitter) continue;
+    if (!env_tile.empty() && e == ctx.lights.environment_emitter()) {  // a presampled direction (LightTiles)
+      const EnvTileEntry& en = env_tile[std::min(env_tile.size() - 1, size_t(u.x * float(env_tile.size())))];
+      if (!(en.pdf > 0)) continue;
+      const LightPoint y{en.direction, Vec3(0), e};
+      LightView v;
+      v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s.frame.to_local(v.wi);
+      const float t = is_black(v.le) ? 0.0f : luminance(di_value(s, wo_l, v));
+      restir::stream(r, y, t, weight(y, v, t, en.pdf * pmf, true), u_stream);  // the map's density x the pmf
+      continue;
+    }
     LightSample ls;
-    if (e == kNoEmitter || !ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
+    if (!ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
     const LightPoint y{ls.position, ls.normal, e};
     LightView v;
     const float t = view_light(ctx.lights, s, y, v) ? luminance(di_value(s, wo_l, v)) : 0.0f;
@@ -179,28 +191,47 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   return r;
 }
 
-void LightTiles::build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain) {
+void LightTiles::build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain, int env_size) {
   count_ = lights.empty() ? 0 : count;
   size_ = size;
+  env_size_ = lights.has_environment() ? std::max(env_size, 0) : 0;
   entries_.resize(size_t(std::max(count_, 0)) * size_t(std::max(size_, 0)));
+  env_entries_.resize(size_t(std::max(count_, 0)) * size_t(env_size_));
   if (count_ <= 0 || size_ <= 0) return;
+  const uint32_t env = lights.environment_emitter();
   parallel_for(count_, [&](int t) {  // one stream per tile: the same tiles whatever the thread count
     Pcg32 rng = make_rng(uint32_t(t), frame, RngPass::light_tiles, seed, chain);
     for (int i = 0; i < size_; ++i) {
       LightTileEntry& en = entries_[size_t(t) * size_t(size_) + size_t(i)];
       en.emitter = lights.select_emitter(rng.next_float(), &en.pmf);
     }
+    // The environment's directions, drawn after the emitters from the same stream (which leaves
+    // the emitter entries as they were without them). The environment samples no receiver point.
+    for (int i = 0; i < env_size_; ++i) {
+      EnvTileEntry& en = env_entries_[size_t(t) * size_t(env_size_) + size_t(i)];
+      LightSample ls;
+      en = lights.sample_emitter(env, Vec3(0), rng.next_2d(), ls) ? EnvTileEntry{ls.wi, ls.radiance, ls.pdf} : EnvTileEntry{};
+    }
   });
+}
+
+size_t LightTiles::tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const {
+  const int blocks_x = (width + kBlockPixels - 1) / kBlockPixels;
+  const uint32_t block = uint32_t((y / kBlockPixels) * blocks_x + x / kBlockPixels);
+  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
+  return std::min(size_t(count_) - 1, size_t(rng.next_float() * float(count_)));
 }
 
 std::span<const LightTileEntry> LightTiles::tile_of(int x, int y, int width, uint32_t frame, uint64_t seed,
                                                      uint32_t chain) const {
   if (count_ <= 0 || size_ <= 0) return {};
-  const int blocks_x = (width + kBlockPixels - 1) / kBlockPixels;
-  const uint32_t block = uint32_t((y / kBlockPixels) * blocks_x + x / kBlockPixels);
-  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
-  const size_t t = std::min(size_t(count_) - 1, size_t(rng.next_float() * float(count_)));
-  return {entries_.data() + t * size_t(size_), size_t(size_)};
+  return {entries_.data() + tile_index(x, y, width, frame, seed, chain) * size_t(size_), size_t(size_)};
+}
+
+std::span<const EnvTileEntry> LightTiles::env_tile_of(int x, int y, int width, uint32_t frame, uint64_t seed,
+                                                      uint32_t chain) const {
+  if (count_ <= 0 || size_ <= 0 || env_size_ <= 0) return {};
+  return {env_entries_.data() + tile_index(x, y, width, frame, seed, chain) * size_t(env_size_), size_t(env_size_)};
 }
 
 Rgb di_specular(const RenderContext& ctx, const GSurface& s, Pcg32& rng) {

@@ -26,6 +26,14 @@ struct LightTileEntry {
   float pmf = 0;
 };
 
+// One presampled direction of the environment map and what its sampling computed: the radiance
+// arriving from it and its solid-angle density (without the environment's selection pmf).
+struct EnvTileEntry {
+  Vec3 direction;
+  Rgb radiance{0};
+  float pdf = 0;
+};
+
 // Pre-sampled light tiles (Wyman and Panteleev 2021, "Rearchitecting spatiotemporal resampling for
 // production", §4.1; RTXDI's presampling pass): each frame, `count` tiles of `size` emitters drawn
 // independently from the light selection distribution; every pixel of a 16x16-pixel block draws
@@ -35,17 +43,26 @@ struct LightTileEntry {
 // estimator stays unbiased: the resampling weights need only each candidate's marginal density,
 // and correlated candidates are allowed (Lin et al. 2022, GRIS §4, the unbiasedness of
 // E[f(Y) W] = sum_i E[m_i(X_i) f(X_i) / p_i(X_i)] uses linearity of expectation only).
+// Each tile also holds `env_size` directions drawn from the environment map's importance
+// distribution (RTXDI's environment presampling, ibid.): a candidate whose emitter is the
+// environment takes one of them uniformly instead of sampling the map itself -- a random texel of a
+// large image and two table lookups, the cache misses that dominated env-lit frames. Each entry is
+// marginally distributed by the environment's density, so the same argument keeps it unbiased.
 class LightTiles {
  public:
   // Draws the tiles of one frame (count 0: no tiles, candidates select from the whole list).
-  void build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain);
+  void build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain, int env_size = 0);
   // The tile of pixel (x, y), chosen at random per 16x16-pixel block and frame; empty without tiles.
   std::span<const LightTileEntry> tile_of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
+  // The same tile's environment directions; empty without tiles, environment or env_size.
+  std::span<const EnvTileEntry> env_tile_of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
   static constexpr int kBlockPixels = 16;
 
  private:
-  int count_ = 0, size_ = 0;
+  size_t tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
+  int count_ = 0, size_ = 0, env_size_ = 0;
   std::vector<LightTileEntry> entries_;
+  std::vector<EnvTileEntry> env_entries_;
 };
 
 // The DI integrand at surface s for light point y, without visibility: f(wo, wi) |cos θ_s| Le G,
@@ -65,8 +82,11 @@ float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& 
 // each with resampling weight p̂(x) / (M_l p_l(x) + M_b p_b(x)) (pdfs in the sample measure).
 // Confidence = M_l + M_b. With `visibility`, the chosen sample is shadow-tested and its weight
 // zeroed if occluded, making the reservoir's target p̂·V (Bitterli et al. 2020, §4.4 "visibility reuse").
+// A light candidate that picks the environment takes its direction from env_tile when it is given
+// (LightTiles), instead of sampling the map.
 DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
-                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {});
+                                 bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {},
+                                 std::span<const EnvTileEntry> env_tile = {});
 
 // Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
 // follows the specular direction and returns the throughput-weighted emission it sees.

@@ -135,6 +135,7 @@ struct DiOptions {
   int bsdf_candidates = 1;
   int light_tiles = 128;       // pre-sampled light tiles per frame (0: candidates select from all emitters)
   int light_tile_size = 1024;  // emitters per tile
+  int env_tile_size = 1024;    // presampled environment directions per tile (0: sampled per candidate)
   bool visibility_reuse = true;
   bool neighbor_visibility = true;
   HistoryScene history_scene = HistoryScene::previous;
@@ -233,6 +234,7 @@ void visit_options(O& o, V& v) {
   v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
   v("di.light_tiles", o.di.light_tiles, "pre-sampled light tiles per frame (RTXDI; Wyman and Panteleev 2021): each 16x16-pixel block draws its light candidates' emitters from one tile of di.light_tile_size emitters drawn by the selection pmf; unbiased; 0 = select from every emitter", Range{0, 65536});
   v("di.light_tile_size", o.di.light_tile_size, "emitters per light tile (di.light_tiles)", Range{1, 1 << 20});
+  v("di.env_tile_size", o.di.env_tile_size, "environment-map directions presampled per light tile (RTXDI's environment presampling): a light candidate that picks the environment takes one of its tile's directions instead of importance-sampling the map itself; unbiased; 0 = sample the map per candidate (needs di.light_tiles > 0)", Range{0, 1 << 20});
   v("di.visibility_reuse", o.di.visibility_reuse, "include visibility in the target: shadow-test the initial sample before reuse (false with BSDF candidates: one shadow ray per light candidate, for the strategies' MIS)");
   v("di.neighbor_visibility", o.di.neighbor_visibility, "with visibility_reuse: trace visibility when evaluating other pixels' targets in MIS (false: biased, cheaper)");
   v("di.history_scene", o.di.history_scene, "animated scenes: the temporal MIS weights evaluate the history's target in the previous frame's scene (its lights; unbiased) or in this frame's (biased: where a light moved or switched on, the history claims samples it could not have drawn and the image darkens)");

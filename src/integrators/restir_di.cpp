@@ -70,10 +70,11 @@ class RestirDi final : public Integrator {
                       temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous};
     };
 
-    // 1. Initial candidates (their emitters from pre-sampled light tiles unless di.light_tiles = 0).
+    // 1. Initial candidates (their emitters, and environment directions, from pre-sampled light
+    // tiles unless di.light_tiles = 0).
     if (di.light_tiles > 0 && di.light_candidates > 0) {
       StageTimer timer(frame.stages, "light_tiles");
-      tiles_.build(ctx_.lights, di.light_tiles, di.light_tile_size, f, seed, chain);
+      tiles_.build(ctx_.lights, di.light_tiles, di.light_tile_size, f, seed, chain, di.env_tile_size);
     } else {
       tiles_.build(ctx_.lights, 0, 0, f, seed, chain);
     }
@@ -83,7 +84,7 @@ class RestirDi final : public Integrator {
         const uint32_t p = uint32_t(y * w + x);
         Pcg32 rng = make_rng(p, f, RngPass::light_candidates, seed, chain);
         c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse,
-                                               rng, tiles_.tile_of(x, y, w, f, seed, chain));
+                                               rng, tiles_.tile_of(x, y, w, f, seed, chain), tiles_.env_tile_of(x, y, w, f, seed, chain));
       }, frame.progress);
     }
 
