@@ -41,6 +41,12 @@ run_checks() {
       --scene "$SCENES_SHARED/scenes/veach-mis/scene-v4.pbrt" --scene "$SCENES_OWN/scenes/teapot.pbrt" 2>&1 |
       grep -v 'Film "filename" ignored' | tee -a "$results" || true
   fi
+  # "No usable GPU" on a machine whose driver lists one is a failure (a driver or library
+  # mismatch, say), not a skip.
+  if [ "$status" -eq 77 ] && nvidia-smi -L 2>/dev/null | grep -q GPU; then
+    echo "error: nvidia-smi lists a GPU but restir_gpu_tests found none usable (see its first line)" | tee -a "$results"
+    status=1
+  fi
   echo "results: $results (restir_gpu_tests exit status $status)"
   return "$status"
 }
@@ -69,6 +75,13 @@ case "${1:-}" in
     for lib in $(ldd "$b/bin/restir_gpu_tests" "$b/bin/bench_gpu" | awk '$2 == "=>" && $3 ~ /^\// {print $3} $1 ~ /^\/.*ld-linux/ {print $1}' | sort -u); do
       cp -L "$lib" "$b/lib/$(basename "$lib")"
     done
+    # The rest of this glibc: the programs do not link them, but the CUDA driver (libcuda, opened
+    # at run time by the static CUDA runtime) does, and the GPU machine's own copies would not
+    # match the bundled libc.
+    libc_dir="$(dirname "$(ldd "$b/bin/restir_gpu_tests" | awk '$1 == "libc.so.6" {print $3}')")"
+    for lib in libdl.so.2 libpthread.so.0 librt.so.1; do
+      [ -e "$libc_dir/$lib" ] && cp -L "$libc_dir/$lib" "$b/lib/$lib"
+    done
     cp -r "$ROOT/../shared/scenes/cornell-box" "$ROOT/../shared/scenes/veach-mis" "$ROOT/../shared/scenes/envmaps" "$b/shared/scenes/"
     cp -r "$ROOT/scenes/." "$b/repo/scenes/"
     git -C "$ROOT" rev-parse --short HEAD >"$b/COMMIT" 2>/dev/null || echo unknown >"$b/COMMIT"
@@ -82,11 +95,11 @@ case "${1:-}" in
     dest="$(mktemp -d)"
     tar -C "$dest" -xJf "$archive"
     b="$dest/restir-gpu"
-    export RESTIR_SHARED_DIR="$b/shared" RESTIR_SOURCE_DIR="$b/repo"
+    export RESTIR_SHARED_DIR="$b/shared" RESTIR_SOURCE_DIR="$b/repo" RESTIR_BINARY_DIR="$dest"
     COMMIT="$(cat "$b/COMMIT")"
     SCENES_SHARED="$b/shared" SCENES_OWN="$b/repo"
     loader="$(ls "$b"/lib/ld-linux-*.so.* | head -1)"
-    run_checks "$results" "$b/bin" "$loader" --library-path "$b/lib:${LD_LIBRARY_PATH:-}"
+    run_checks "$results" "$b/bin" "$loader" --library-path "$b/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
     ;;
   -*)
     echo "unknown argument: $1" >&2

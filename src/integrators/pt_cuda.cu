@@ -11,7 +11,6 @@
 #include "integrators/path_kernel.h"
 #include "integrators/path_tracer.h"
 #include "integrators/pt_cuda.h"
-#include "scene/animation.h"
 
 namespace rl {
 
@@ -135,7 +134,9 @@ class CudaPathTracer final : public Integrator {
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
-    if (frame.index > 0 && (scene_animated(ctx_.scene))) {  // the scene and its lights moved: copy them again
+    // The scene (and with it its lights) moved since it was copied -- the next frame of an animated
+    // scene, or frame 0 again after FrameRenderer::reset: copy it again.
+    if (ctx_.accel.generation() != uploaded_generation_) {
       StageTimer timer(frame.stages, "upload");
       upload_world();
     }
@@ -201,6 +202,7 @@ class CudaPathTracer final : public Integrator {
   // The scene, lights and BVH as they are now, copied to the device.
   void upload_world() {
     store_.clear();
+    uploaded_generation_ = ctx_.accel.generation();
     const Bvh bvh = build_bvh(ctx_.scene);
     bvh_ = BvhView{store_.upload(bvh.nodes), store_.upload(bvh.primitives), uint32_t(bvh.nodes.size()),
                    uint32_t(bvh.primitives.size()), bvh.sphere_geom};
@@ -210,6 +212,7 @@ class CudaPathTracer final : public Integrator {
   }
 
   RenderContext ctx_;
+  uint64_t uploaded_generation_ = 0;
   DeviceStore store_;
   BvhView bvh_;
   PathWorld world_;

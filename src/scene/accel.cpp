@@ -121,6 +121,7 @@ void Accel::update() {
   check_device(impl_->device, "updating the BVH");
   view_data_ = SceneViewData(scene_);  // moved spheres' centres are copied into the view
   view_ = view_data_.view();
+  ++generation_;
 }
 
 Accel::~Accel() = default;

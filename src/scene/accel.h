@@ -42,6 +42,9 @@ class Accel final : public RayQueries {
   SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const { return surface_interaction(view_, ray, hit); }
   // The scene as per-sample code sees it (scene_view.h), of the pose update() last read.
   const SceneView& scene_view() const { return view_; }
+  // Bumped by every update() that moved the scene: a backend holding a copy of the scene (the
+  // CUDA path tracer) copies it again when this differs from the generation it copied.
+  uint64_t generation() const { return generation_; }
   uint32_t sphere_geom() const { return uint32_t(scene_.meshes.size()); }
   const Scene& scene() const { return scene_; }
   // Scene-size dependent epsilon used to offset spawned rays off surfaces.
@@ -55,6 +58,7 @@ class Accel final : public RayQueries {
   SceneView view_;
   float epsilon_ = 1e-4f;
   bool animated_ = false;  // the scene has animated shapes: update() has work
+  uint64_t generation_ = 0;  // counts the update()s that moved something
 };
 
 }  // namespace rl

@@ -81,6 +81,9 @@ struct SceneViewData {
 // bottom row, as pbrt), checkerboard in uv cells.
 RESTIR_HD inline Rgb eval_texture(const TextureParams& tex, const ImageView& img, Vec2 uv) {
   const float u = uv.x * tex.uscale + tex.udelta, v = uv.y * tex.vscale + tex.vdelta;
+  // Coordinates beyond +-2^24 carry no sub-texel precision, and their conversion to int would
+  // overflow (and a NaN convert differently on host and device): such lookups take the base value.
+  if (!(std::fabs(u) < 16777216.0f) || !(std::fabs(v) < 16777216.0f)) return tex.value;
   switch (tex.kind) {
     case TextureParams::Kind::constant:
       return tex.value;
@@ -98,6 +101,7 @@ RESTIR_HD inline Rgb eval_texture(const TextureParams& tex, const ImageView& img
       };
       // Bilinear filtering on texel centres; image row 0 is the top (v = 1).
       const float x = u * float(img.width) - 0.5f, y = (1 - v) * float(img.height) - 0.5f;
+      if (!(std::fabs(x) < 2e9f) || !(std::fabs(y) < 2e9f)) return tex.value;  // int range (see above)
       const float fx = std::floor(x), fy = std::floor(y);
       const int x0 = int(fx), y0 = int(fy);
       const float dx = x - fx, dy = y - fy;

@@ -5,10 +5,12 @@
 #include <doctest/doctest.h>
 
 #include <cstdio>
+#include <fstream>
 
 #include "backends/bvh_queries.h"
 #include "backends/cuda/cuda_queries.h"
 #include "integrators/render.h"
+#include "scene/animation.h"
 #include "random_rays.h"
 #include "test_helpers.h"
 
@@ -105,12 +107,82 @@ TEST_CASE("pt: CPU and CUDA renders agree (4 seeds stacked; mean 0.5%, 8x8 block
   }
 }
 
+// A scene with what the test scenes above lack: an image texture, a checkerboard (uv lookups on the
+// device), a point light, a sphere light and an environment map together.
+std::string feature_scene() {
+  const std::string path = env_or("RESTIR_BINARY_DIR", RESTIR_BINARY_DIR) + "/gpu-features.pbrt";
+  std::ofstream f(path);
+  f << "LookAt 0 2.2 -4.5  0 0.4 0.5  0 1 0\nCamera \"perspective\" \"float fov\" 45\nWorldBegin\n"
+       "LightSource \"infinite\" \"string filename\" \"" << shared_scene("envmaps/interior.exr") << "\" \"float scale\" 0.5\n"
+       "Texture \"photo\" \"spectrum\" \"imagemap\" \"string filename\" \"" << shared_scene("envmaps/courtyard.exr") << "\" \"float uscale\" 2\n"
+    << R"(Texture "checks" "spectrum" "checkerboard" "float uscale" 8 "float vscale" 8 "rgb tex1" [0.8 0.8 0.8] "rgb tex2" [0.1 0.1 0.1]
+LightSource "point" "rgb I" [3 3 3] "point3 from" [1.5 2.5 -1]
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [8 6 4]
+  Translate -1.2 1.4 0.3
+  Shape "sphere" "float radius" 0.2
+AttributeEnd
+Material "diffuse" "texture reflectance" "checks"
+Shape "trianglemesh" "point3 P" [ -3 0 -3 -3 0 3 3 0 3 3 0 -3 ] "point2 uv" [ 0 0 0 1 1 1 1 0 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "texture reflectance" "photo"
+Shape "trianglemesh" "point3 P" [ -0.8 0 0.8 0.8 0 0.8 0.8 1.4 0.8 -0.8 1.4 0.8 ] "point2 uv" [ 0 0 1 0 1 1 0 1 ] "integer indices" [ 0 1 2 0 2 3 ]
+Material "conductor" "float roughness" 0.15
+Shape "sphere" "float radius" 0.35
+)";
+  return path;
+}
+
+TEST_CASE("pt: textures, point, sphere and environment lights, and a pixel's samples across two waves") {
+  {
+    Scene scene = load_scene(feature_scene());
+    Options o = options_for(scene, {"film.width=128", "film.height=96", "render.spp=16"});
+    const Image cpu = stacked(scene, o, 4);
+    o.render.backend = gpu_backend();
+    check_agree(cpu, stacked(scene, o, 4));
+  }
+  // 512 x 512 x 5 spp = 1.31 M paths: two waves of 2^20, and 5 does not divide 2^20, so pixel
+  // 209715's samples are split between them (the per-pixel sums must add both parts, in order).
+  Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
+  Options o = options_for(scene, {"film.width=512", "film.height=512", "render.spp=5"});
+  const Image cpu = render(scene, o).last;
+  o.render.backend = gpu_backend();
+  check_agree(cpu, render(scene, o).last);
+}
+
 TEST_CASE("an animated scene: the CUDA BVH follows the moving objects") {
   Scene scene = load_scene(own_scene("dynamic-room.pbrt"));
   Options o = options_for(scene, {"film.width=96", "film.height=64", "render.spp=16", "render.frames=4"});
   const Image cpu = render(scene, o).last;
   o.render.backend = gpu_backend();
   check_agree(cpu, render(scene, o).last);
+}
+
+TEST_CASE("an animated scene: after reset() at frame 3, frame 0 is drawn in frame 0's pose; CudaQueries::update") {
+  Scene scene = load_scene(own_scene("dynamic-room.pbrt"));
+  Options o = options_for(scene, {"film.width=96", "film.height=64", "render.spp=16"});
+  const CameraKey key = scene.camera.at_frame(0, 1);
+  Image cpu0, gpu0, scratch;
+  FrameRenderer cpu(scene, o);
+  cpu.render_frame(key, 4, cpu0, nullptr);
+  FrameRenderer fr(scene, o);
+  for (int i = 0; i < 4; ++i) fr.render_frame(key, 4, scratch, nullptr);  // the scene now shows frame 3
+  o.render.backend = gpu_backend();
+  fr.reset(o);
+  fr.render_frame(key, 4, gpu0, nullptr);
+  check_agree(cpu0, gpu0);
+  // The ray queries of a scene that moves: update() follows it.
+  Scene moving = scene;
+  const auto queries = gpu_queries(moving);
+  animate_scene(scene, 3, moving);
+  queries->update();
+  BvhQueries host(moving);
+  const std::vector<Ray> rays = random_rays(moving, 100000, 9);
+  std::vector<Hit> a(rays.size()), b(rays.size());
+  host.intersect_batch(rays, a);
+  queries->intersect_batch(rays, b);
+  size_t mismatch = 0;
+  for (size_t i = 0; i < rays.size(); ++i) mismatch += a[i].valid() != b[i].valid() || (a[i].valid() && a[i].prim != b[i].prim);
+  CHECK(mismatch <= rays.size() / 10000);
 }
 
 TEST_CASE("switching render.backend in a running FrameRenderer (the viewer's path)") {

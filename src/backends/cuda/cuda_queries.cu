@@ -135,7 +135,9 @@ CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int 
   nodes.upload(bvh.nodes.data(), bvh.nodes.size(), nullptr);
   prims.upload(bvh.primitives.data(), bvh.primitives.size(), nullptr);
   const BvhView view{nodes.data, prims.data, uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+  CudaRayTiming t;
   const uint32_t n = uint32_t(rays.size());
+  if (n == 0) return t;  // no launch of zero blocks
   d_hits.reserve(n);
   d_blocked.reserve(n);
   cudaEvent_t start, stop;
@@ -147,7 +149,6 @@ CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int 
     check(cudaEventElapsedTime(&ms, start, stop), "timing");
     return double(ms);
   };
-  CudaRayTiming t;
   check(cudaEventRecord(start), "timing");
   d_rays.upload(rays.data(), n, nullptr);
   check(cudaEventRecord(stop), "timing");
