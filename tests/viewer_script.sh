@@ -35,23 +35,28 @@ if grep -q "this build has no viewer" <<< "$probe"; then
 fi
 
 # One X server for the whole test (xvfb-run per command races in its own clean-up), on the first
-# free display number from 90.
-for n in $(seq 90 189); do
-  [ -e "/tmp/.X$n-lock" ] && continue
-  Xvfb ":$n" -screen 0 1600x1000x24 -nolisten tcp >"$work/xvfb.log" 2>&1 &
-  xvfb_pid=$!
-  for _ in $(seq 100); do
-    [ -S "/tmp/.X11-unix/X$n" ] && break
-    kill -0 "$xvfb_pid" 2>/dev/null || break
-    sleep 0.05
-  done
-  if [ -S "/tmp/.X11-unix/X$n" ] && kill -0 "$xvfb_pid" 2>/dev/null; then
-    export DISPLAY=":$n"
-    break
-  fi
+# free display number from 90. start_xvfb is called again if the server is gone when the
+# interactive part begins (once seen on a loaded CI machine: ":90" refused the viewer there).
+start_xvfb() {
   xvfb_pid=""
-done
-[ -n "$xvfb_pid" ] || { echo "error: Xvfb did not start: $(cat "$work/xvfb.log")" >&2; exit 1; }
+  for n in $(seq 90 189); do
+    [ -e "/tmp/.X$n-lock" ] && continue
+    Xvfb ":$n" -screen 0 1600x1000x24 -nolisten tcp >"$work/xvfb.log" 2>&1 &
+    xvfb_pid=$!
+    for _ in $(seq 100); do
+      [ -S "/tmp/.X11-unix/X$n" ] && break
+      kill -0 "$xvfb_pid" 2>/dev/null || break
+      sleep 0.05
+    done
+    if [ -S "/tmp/.X11-unix/X$n" ] && kill -0 "$xvfb_pid" 2>/dev/null; then
+      export DISPLAY=":$n"
+      break
+    fi
+    xvfb_pid=""
+  done
+  [ -n "$xvfb_pid" ] || { echo "error: Xvfb did not start: $(cat "$work/xvfb.log")" >&2; exit 1; }
+}
+start_xvfb
 
 view() { "$restir" view "$@"; }
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -197,20 +202,32 @@ if command -v xdotool >/dev/null; then
   mkdir "$work/ia"
   # wait_for FILE: up to 120 s (the machine may be loaded).
   wait_for() { for _ in $(seq 1200); do [ -s "$1" ] && return 0; sleep 0.1; done; fail "timed out waiting for $1"; }
-  (cd "$work/ia" && "$restir" view "$scene" --integrator restir-di --set film.width=160 --set film.height=90 \
-    2>"$work/ia/stderr.txt") &
-  viewer_pid=$!
+  # The window may fail to open if the X server went away meanwhile: say so, restart it, try again
+  # (twice at most); a viewer that runs but shows no window fails at once.
   wid=""
-  for _ in $(seq 600); do
-    wid="$(xdotool search --name "restir view" 2>/dev/null | head -1 || true)"
+  for attempt in 1 2 3; do
+    (cd "$work/ia" && "$restir" view "$scene" --integrator restir-di --set film.width=160 --set film.height=90 \
+      2>"$work/ia/stderr.txt") &
+    viewer_pid=$!
+    for _ in $(seq 600); do
+      wid="$(xdotool search --name "restir view" 2>/dev/null | head -1 || true)"
+      [ -n "$wid" ] && break
+      kill -0 "$viewer_pid" 2>/dev/null || break
+      sleep 0.1
+    done
     [ -n "$wid" ] && break
-    sleep 0.1
-  done
-  if [ -z "$wid" ]; then
     alive=no
     kill -0 "$viewer_pid" 2>/dev/null && alive=yes
-    fail "the interactive viewer's window did not appear (running: $alive; stderr: $(cat "$work/ia/stderr.txt"))"
-  fi
+    xvfb_alive=no
+    kill -0 "$xvfb_pid" 2>/dev/null && xvfb_alive=yes
+    if [ "$alive" = no ] && grep -q "cannot open a window" "$work/ia/stderr.txt" && [ "$attempt" -lt 3 ]; then
+      echo "note: attempt $attempt: the viewer could not open a window on $DISPLAY (Xvfb alive: $xvfb_alive): $(cat "$work/ia/stderr.txt")" >&2
+      [ "$xvfb_alive" = yes ] || start_xvfb
+      sleep 1
+      continue
+    fi
+    fail "the interactive viewer's window did not appear (running: $alive; Xvfb alive: $xvfb_alive; stderr: $(cat "$work/ia/stderr.txt"); Xvfb log: $(tail -3 "$work/xvfb.log"))"
+  done
   sleep 2  # a few frames
   xdotool mousemove --window "$wid" 100 360 key F12
   wait_for "$work/ia/out/view.window.png"
