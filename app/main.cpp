@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "backends/cuda/cuda_queries.h"
 #include "core/build_info.h"
 #include "core/output_guard.h"
 #include "image/image_io.h"
@@ -292,9 +293,14 @@ int run_compare(const std::string& a, const std::string& b, bool json) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"restir-lab: a CPU research renderer and parameter-study lab for ReSTIR"};
+  CLI::App app{"restir-lab: a research renderer and parameter-study lab for ReSTIR (CPU, and NVIDIA GPUs with CUDA)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string(rl::build_id()));
+  // The build id, then whether render.backend=cuda can run here (and why not).
+  app.set_version_flag("--version", [] {
+    const std::string why = rl::cuda_unavailable_reason();
+    return std::string(rl::build_id()) + "\ncuda backend: " +
+           (why.empty() ? "ready (" + rl::cuda_device_description() + ")" : "unavailable: " + why);
+  });
 
   RenderArgs ra;
   auto* render = app.add_subcommand("render", "render a scene to EXR/PNG");

@@ -159,7 +159,10 @@ TEST_SUITE("bad_input") {
     }
     SUBCASE("help and version exit 0") {
       CHECK(run_restir("--help").status == 0);
-      CHECK(run_restir("--version").status == 0);
+      const CommandResult v = run_restir("--version");
+      CHECK(v.status == 0);
+      CHECK(v.output.find(RESTIR_PROJECT_VERSION) == 0);       // the build id first
+      CHECK(v.output.find("cuda backend: ") != std::string::npos);  // then whether render.backend=cuda can run
       CHECK(run_restir("render --help").status == 0);
     }
     fs::remove_all(d);
