@@ -6,6 +6,8 @@
 
 #include "integrators/integrator.h"
 #include "scene/bsdf.h"
+#include "scene/lights_view.h"
+#include "scene/scene_view.h"
 
 namespace rl {
 
@@ -30,8 +32,37 @@ struct GBuffer {
   const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// The G-buffer entry of a primary ray and its closest hit (null: it escaped). back[a] (optional,
-// one per scene animation) maps a point of animation a's objects to where it was a frame earlier.
+// The G-buffer entry of a primary ray and its closest hit (null: it escaped), over the
+// device-shaped views (the CUDA backend's too). back[a] (back_count of them, one per scene
+// animation; may be null) maps a point of animation a's objects to where it was a frame earlier.
+RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& lights, const Ray& ray, const Hit* hit, GSurface& s,
+                                    const Mat4* back, uint32_t back_count) {
+  s = GSurface{};
+  if (!hit) {
+    s.background = lights.environment_radiance(ray.d);
+    return;
+  }
+  const SurfaceInteraction si = surface_interaction(scene, ray, *hit);
+  s.valid = true;
+  s.p = si.p;
+  s.ng = si.ng;
+  s.ns = si.ns;
+  s.frame = Frame::from_normal(si.ns);
+  s.wo = -ray.d;
+  s.depth = hit->t;
+  const MaterialParams& mat = scene.materials[si.material];
+  s.bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
+  const uint32_t e = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
+  if (e != kNoEmitter) s.emitted = lights.emitted(e, si.ng, s.wo);
+  s.p_previous = s.p;
+  s.ns_previous = s.ns;
+  const int a = si.is_sphere ? scene.spheres[si.prim].animation : scene.meshes[si.geom].animation;
+  if (back && a >= 0 && uint32_t(a) < back_count) {
+    s.p_previous = back[a].apply_point(s.p);
+    s.ns_previous = normalize(back[a].apply_vector(s.ns));  // rigid: the rotation part
+  }
+}
+// The same on the context's scene and lights.
 void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s,
                    const std::vector<Mat4>* back = nullptr);
 // Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
@@ -41,10 +72,20 @@ std::vector<Mat4> motion_back(const Scene& scene, int frame);
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);
 
 // Pixel of the previous frame that saw world point p; false when off screen or behind the camera.
-bool reproject(const PerspectiveCamera& previous, Vec3 p, int& x, int& y);
+RESTIR_HD inline bool reproject(const PerspectiveCamera& previous, Vec3 p, int& x, int& y) {
+  Vec2 r;
+  if (!previous.project(p, r)) return false;
+  x = int(r.x);
+  y = int(r.y);
+  return x >= 0 && y >= 0 && x < previous.width() && y < previous.height();
+}
 
 // Bitterli et al. 2020 §4 / RTXDI: two surfaces may share samples when their depths differ by less
 // than depth_threshold (relative) and their normals by less than normal_threshold_deg.
-bool similar_surfaces(const GSurface& a, const GSurface& b, float depth_threshold, float normal_threshold_deg);
+RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GSurface& b, float depth_threshold, float normal_threshold_deg) {
+  if (!a.valid || !b.valid) return false;
+  if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
+  return dot(a.ns, b.ns) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+}
 
 }  // namespace rl

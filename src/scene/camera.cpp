@@ -57,14 +57,6 @@ PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height
   }
 }
 
-bool PerspectiveCamera::project(Vec3 world, Vec2& raster) const {
-  Vec3 c = camera_from_world_.apply_point(world);
-  if (c.z <= 0) return false;
-  float sx = c.x / (c.z * tan_half_), sy = c.y / (c.z * tan_half_);
-  raster = {(sx / sx_ + 1) * 0.5f * float(width_), (1 - sy / sy_) * 0.5f * float(height_)};
-  return raster.x >= 0 && raster.y >= 0 && raster.x < float(width_) && raster.y < float(height_);
-}
-
 namespace {
 Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& where) {
   if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)

@@ -23,7 +23,13 @@ class PerspectiveCamera {
     return r;
   }
   // Raster position of a world point; false when it is behind the camera or off the film.
-  bool project(Vec3 world, Vec2& raster) const;
+  RESTIR_HD bool project(Vec3 world, Vec2& raster) const {
+    const Vec3 c = camera_from_world_.apply_point(world);
+    if (c.z <= 0) return false;
+    const float sx = c.x / (c.z * tan_half_), sy = c.y / (c.z * tan_half_);
+    raster = {(sx / sx_ + 1) * 0.5f * float(width_), (1 - sy / sy_) * 0.5f * float(height_)};
+    return raster.x >= 0 && raster.y >= 0 && raster.x < float(width_) && raster.y < float(height_);
+  }
   Vec3 position() const { return position_; }
   Vec3 forward() const { return forward_; }
   RESTIR_HD int width() const { return width_; }

@@ -14,9 +14,10 @@ SceneViewData::SceneViewData(const Scene& scene) {
     v.triangle_count = uint32_t(m.triangle_count());
     v.material = m.material;
     v.flip_normal = m.flip_normal;
+    v.animation = m.animation;
     meshes.push_back(v);
   }
-  for (const Sphere& s : scene.spheres) spheres.push_back({s.center, s.radius, s.material, s.flip_normal});
+  for (const Sphere& s : scene.spheres) spheres.push_back({s.center, s.radius, s.material, s.flip_normal, s.animation});
   for (const Material& m : scene.materials) materials.push_back(m);
   for (const Texture& t : scene.textures) textures.push_back({t, image_view(t.image)});
 }

@@ -34,6 +34,7 @@ struct MeshView {
   uint32_t vertex_count = 0, triangle_count = 0;
   int material = 0;
   bool flip_normal = false;
+  int animation = -1;               // index into Scene::animations (-1: static)
 };
 
 struct SphereView {
@@ -41,6 +42,7 @@ struct SphereView {
   float radius = 1;
   int material = 0;
   bool flip_normal = false;
+  int animation = -1;
 };
 
 struct SceneView {
