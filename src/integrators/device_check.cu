@@ -6,6 +6,7 @@
 #include <cuda_runtime.h>
 
 #include "backends/bvh_traverse.h"
+#include "integrators/di_kernel.h"
 #include "integrators/gbuffer.h"
 #include "integrators/path_kernel.h"
 
@@ -34,6 +35,12 @@ __global__ void device_compile_check(PathWorld w, BvhView bvh, PerspectiveCamera
   BsdfSample bs;
   acc += float(bsdf_sample(g.bsdf, Vec3(0, 0, 1), 0.5f, Vec2(0.3f, 0.3f), bs)) + bsdf_pdf(g.bsdf, Vec3(0, 0, 1), bs.wi) +
          luminance(bsdf_eval(g.bsdf, Vec3(0, 0, 1), bs.wi)) + bsdf_roughness(g.bsdf);
+  // ReSTIR DI's integrand, shadow ray and light density at the G-buffer surface.
+  const LightPoint lp{ls.position, ls.normal, ls.emitter};
+  Ray shadow;
+  acc += luminance(di_unshadowed(L, g, lp, w.ray_epsilon, &shadow)) + shadow.tmax;
+  di_detail::LightView v;
+  if (di_detail::view_light(L, g, lp, v)) acc += di_detail::light_density(L, g, lp, v) + di_detail::di_shadow_ray(L, g, lp, v, 1e-4f).tmax;
   PathState st;
   st.ray = ray;
   PendingShadow sh;

@@ -6,83 +6,25 @@
 
 namespace rl {
 
-namespace {
-
-// Light point y as seen from surface s: the direction (world and shading frame), the radiance
-// arriving along it and g, the geometry factor of the DI integrand -- |cos θ_l| / d² for area
-// emitters, 1 / d² for point lights, 1 for the environment -- which is also the Jacobian from solid
-// angle at s to y's sample measure (area, counting, solid angle: Veach 1997 §8.2.2.2). Computed once
-// per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
-struct LightView {
-  Vec3 wi, wi_l;
-  Rgb le{0};
-  float g = 0;
-};
-
-// false: y sends nothing toward s (degenerate distance, back of a one-sided emitter, black).
-bool view_light(const Lights& lights, const GSurface& s, const LightPoint& y, LightView& v) {
-  switch (lights.kind(y.emitter)) {
-    case Lights::Kind::environment:
-      v.wi = y.position;
-      v.le = lights.environment_radiance(v.wi);
-      v.g = 1;
-      break;
-    case Lights::Kind::point: {
-      const Vec3 d = y.position - s.p;
-      const float d2 = length_squared(d);
-      if (!(d2 > 0)) return false;
-      v.wi = d / std::sqrt(d2);
-      v.le = lights.point_intensity(y.emitter);
-      v.g = 1 / d2;
-      break;
-    }
-    default: {
-      const Vec3 d = y.position - s.p;
-      const float d2 = length_squared(d);
-      if (!(d2 > 0)) return false;
-      v.wi = d / std::sqrt(d2);
-      v.le = lights.emitted(y.emitter, y.normal, -v.wi);
-      v.g = std::fabs(dot(y.normal, v.wi)) / d2;
-      break;
-    }
-  }
-  if (is_black(v.le)) return false;
-  v.wi_l = s.frame.to_local(v.wi);
-  return true;
-}
-
-// f(wo, wi) |cos θ_s| Le g, given wo in the shading frame.
-Rgb di_value(const GSurface& s, Vec3 wo_l, const LightView& v) {
-  const Rgb f = bsdf_eval(s.bsdf, wo_l, v.wi_l) * std::fabs(v.wi_l.z);
-  const Rgb value = f * v.le * v.g;
-  return is_finite(value) ? max(value, Rgb(0)) : value;  // non-finite: reported by the render driver, never hidden
-}
-
-// The ray that tests the visibility of y from s.
-Ray di_shadow_ray(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v, float eps) {
-  switch (lights.kind(y.emitter)) {
-    case Lights::Kind::environment: return spawn_ray(s.p, s.ng, v.wi, eps);
-    case Lights::Kind::point: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
-    default: return spawn_ray_to(s.p, s.ng, y.position, y.normal, eps);
-  }
-}
-
-// Density of the light strategy at y for the receiver s (selection pmf x Lights::sample_emitter's
-// density), in y's sample measure.
-float light_density(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
-  if (lights.kind(y.emitter) == Lights::Kind::point) return lights.selection_pmf(y.emitter);
-  return lights.pdf(y.emitter, s.p, y.position, y.normal) * v.g;
-}
-
-}  // namespace
+using di_detail::LightView;
+using di_detail::di_value;
 
 Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, float eps, Ray* shadow_ray) {
-  if (!s.valid || y.emitter == kNoEmitter) return Rgb(0);
-  LightView v;
-  if (!view_light(lights, s, y, v)) return Rgb(0);
-  if (shadow_ray) *shadow_ray = di_shadow_ray(lights, s, y, v, eps);
-  return di_value(s, s.frame.to_local(s.wo), v);
+  return di_unshadowed(lights.view(), s, y, eps, shadow_ray);
 }
+
+// The host's view of these (one per call: LightsView is a handful of pointers).
+namespace {
+bool view_light(const Lights& lights, const GSurface& s, const LightPoint& y, LightView& v) {
+  return di_detail::view_light(lights.view(), s, y, v);
+}
+Ray di_shadow_ray(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v, float eps) {
+  return di_detail::di_shadow_ray(lights.view(), s, y, v, eps);
+}
+float light_density(const Lights& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
+  return di_detail::light_density(lights.view(), s, y, v);
+}
+}  // namespace
 
 float di_target(const RenderContext& ctx, const GSurface& s, const LightPoint& y, bool visibility) {
   return di_target(ctx, ctx.lights, s, y, visibility);

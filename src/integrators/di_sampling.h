@@ -7,16 +7,12 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "integrators/di_kernel.h"
 #include "integrators/gbuffer.h"
 #include "restir/reservoir.h"
 
 namespace rl {
 
-struct LightPoint {
-  Vec3 position;               // on the emitter; the direction itself for the environment
-  Vec3 normal;                 // emitter geometric normal (zero for point lights / environment)
-  uint32_t emitter = kNoEmitter;
-};
 
 using DiReservoir = restir::Reservoir<LightPoint>;
 
