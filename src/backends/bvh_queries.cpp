@@ -8,16 +8,12 @@
 namespace rl {
 
 namespace {
-constexpr size_t kChunk = 256;
-template <class Fn>
-void parallel_chunks(size_t n, const Fn& fn) {
-  parallel_for(int((n + kChunk - 1) / kChunk), [&](int c) { fn(size_t(c) * kChunk, std::min(n, size_t(c + 1) * kChunk)); });
-}
+constexpr size_t kChunk = 256;  // rays per parallel task
 }  // namespace
 
 void BvhQueries::intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool) const {
   const BvhView view = bvh_.view();
-  parallel_chunks(rays.size(), [&](size_t a, size_t b) {
+  parallel_for_chunks(rays.size(), kChunk, [&](size_t a, size_t b) {
     for (size_t i = a; i < b; ++i) {
       hits[i] = Hit{};
       bvh_trace(view, rays[i], false, &hits[i]);
@@ -27,7 +23,7 @@ void BvhQueries::intersect_batch(std::span<const Ray> rays, std::span<Hit> hits,
 
 void BvhQueries::occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
   const BvhView view = bvh_.view();
-  parallel_chunks(rays.size(), [&](size_t a, size_t b) {
+  parallel_for_chunks(rays.size(), kChunk, [&](size_t a, size_t b) {
     for (size_t i = a; i < b; ++i) blocked[i] = bvh_trace(view, rays[i], true, nullptr) ? 1 : 0;
   });
 }

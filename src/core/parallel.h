@@ -1,6 +1,8 @@
 // The one parallel loop of the renderer: tiles of pixels over oneTBB. Work is split into fixed
 // tiles so that results never depend on the thread count (each pixel owns its random streams).
 #pragma once
+#include <algorithm>
+#include <cstddef>
 #include <functional>
 
 namespace rl {
@@ -11,6 +13,13 @@ void parallel_for_pixels(int width, int height, const std::function<void(int, in
                          const std::function<void(int, int)>& progress = {});
 // Calls fn(i) for i in [0, n) in parallel.
 void parallel_for(int n, const std::function<void(int)>& fn);
+
+// Calls fn(first, end) for the chunks [0, chunk), [chunk, 2 chunk), ... of [0, n) in parallel: the
+// batched loops of the wavefront (rays, paths) over flat buffers.
+template <class Fn>
+void parallel_for_chunks(size_t n, size_t chunk, const Fn& fn) {
+  parallel_for(int((n + chunk - 1) / chunk), [&](int c) { fn(size_t(c) * chunk, std::min(n, size_t(c + 1) * chunk)); });
+}
 
 // Limits the worker threads of every parallel loop for the lifetime of the object (0 = all cores).
 class ThreadLimit {

@@ -105,12 +105,7 @@ class PathTracer final : public Integrator {
 
  private:
   static constexpr size_t kWave = size_t(1) << 16;  // paths in flight: their state stays in the caches
-  static constexpr int kChunk = 256;                // paths per parallel task
-
-  template <class Fn>
-  static void parallel_chunks(size_t n, const Fn& fn) {  // fn(first, end) over [0, n) in chunks
-    parallel_for(int((n + kChunk - 1) / kChunk), [&](int c) { fn(size_t(c) * kChunk, std::min(n, size_t(c + 1) * kChunk)); });
-  }
+  static constexpr size_t kChunk = 256;             // paths per parallel task
 
   void start_paths(const FrameInfo& frame, int width, size_t begin, size_t n) {
     StageTimer timer(frame.stages, "camera");
@@ -118,7 +113,7 @@ class PathTracer final : public Integrator {
     const uint32_t spp = uint32_t(o.render.spp);
     paths_.resize(n);
     live_.resize(n);
-    parallel_chunks(n, [&](size_t a, size_t b) {
+    parallel_for_chunks(n, kChunk, [&](size_t a, size_t b) {
       for (size_t i = a; i < b; ++i) {
         const size_t index = begin + i;
         const uint32_t pixel = uint32_t(index / spp), s = uint32_t(index % spp);
@@ -141,14 +136,14 @@ class PathTracer final : public Integrator {
     alive_.resize(n);
     {
       StageTimer timer(frame.stages, "intersect");
-      parallel_chunks(n, [&](size_t a, size_t b) {
+      parallel_for_chunks(n, kChunk, [&](size_t a, size_t b) {
         for (size_t k = a; k < b; ++k) rays_[k] = paths_[live_[k]].ray;
       });
       ctx_.rays().intersect_batch(rays_, hits_, primary);
     }
     {
       StageTimer timer(frame.stages, "shade");
-      parallel_chunks(n, [&](size_t a, size_t b) {
+      parallel_for_chunks(n, kChunk, [&](size_t a, size_t b) {
         for (size_t k = a; k < b; ++k)
           alive_[k] = path_bounce(ctx_, ctx_.options.path, paths_[live_[k]], hits_[k].valid() ? &hits_[k] : nullptr, shadows_[k]);
       });
@@ -164,7 +159,7 @@ class PathTracer final : public Integrator {
         }
       blocked_.resize(shadow_rays_.size());
       ctx_.rays().occluded_batch(shadow_rays_, blocked_);
-      parallel_chunks(shadow_rays_.size(), [&](size_t a, size_t b) {
+      parallel_for_chunks(shadow_rays_.size(), kChunk, [&](size_t a, size_t b) {
         for (size_t j = a; j < b; ++j)  // one shadow ray per path and bounce: no two tasks touch one path
           if (!blocked_[j]) paths_[live_[shadow_owner_[j]]].L += shadows_[shadow_owner_[j]].contribution;
       });

@@ -229,19 +229,14 @@ void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool
 
 namespace {
 constexpr size_t kBatchChunk = 256;  // rays per parallel task of a batch
-template <class Fn>
-void parallel_chunks(size_t n, const Fn& fn) {
-  parallel_for(int((n + kBatchChunk - 1) / kBatchChunk),
-               [&](int c) { fn(size_t(c) * kBatchChunk, std::min(n, size_t(c + 1) * kBatchChunk)); });
-}
 }  // namespace
 
 void Accel::intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
-  parallel_chunks(rays.size(), [&](size_t a, size_t b) { intersect(rays.subspan(a, b - a), hits.subspan(a, b - a), coherent); });
+  parallel_for_chunks(rays.size(), kBatchChunk, [&](size_t a, size_t b) { intersect(rays.subspan(a, b - a), hits.subspan(a, b - a), coherent); });
 }
 
 void Accel::occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const {
-  parallel_chunks(rays.size(), [&](size_t a, size_t b) { occluded(rays.subspan(a, b - a), blocked.subspan(a, b - a)); });
+  parallel_for_chunks(rays.size(), kBatchChunk, [&](size_t a, size_t b) { occluded(rays.subspan(a, b - a), blocked.subspan(a, b - a)); });
 }
 
 }  // namespace rl
