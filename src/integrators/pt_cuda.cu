@@ -203,9 +203,7 @@ class CudaPathTracer final : public Integrator {
   void upload_world() {
     store_.clear();
     uploaded_generation_ = ctx_.accel.generation();
-    const Bvh bvh = build_bvh(ctx_.scene);
-    bvh_ = BvhView{store_.upload(bvh.nodes), store_.upload(bvh.primitives), uint32_t(bvh.nodes.size()),
-                   uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+    bvh_ = cuda::upload_bvh(store_, build_bvh(ctx_.scene));
     world_.scene = upload_scene(store_, ctx_.accel.scene_view());
     world_.lights = upload_lights(store_, ctx_.lights.view());
     world_.ray_epsilon = ctx_.accel.ray_epsilon();

@@ -80,17 +80,13 @@ class CudaQueries final : public RayQueries {
 
  private:
   void upload_bvh() {
-    const Bvh bvh = build_bvh(scene_);
-    nodes_.upload(bvh.nodes.data(), bvh.nodes.size(), stream_);
-    primitives_.upload(bvh.primitives.data(), bvh.primitives.size(), stream_);
-    check(cudaStreamSynchronize(stream_), "uploading the BVH");
-    view_ = BvhView{nodes_.data, primitives_.data, uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()), bvh.sphere_geom};
+    bvh_store_.clear();
+    view_ = cuda::upload_bvh(bvh_store_, build_bvh(scene_));
   }
 
   const Scene& scene_;
   cudaStream_t stream_ = nullptr;
-  DeviceArray<BvhNode> nodes_;
-  DeviceArray<BvhPrimitive> primitives_;
+  cuda::DeviceStore bvh_store_;
   BvhView view_;
   mutable std::mutex mutex_;
   mutable DeviceArray<Ray> rays_;
@@ -126,15 +122,11 @@ std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene) {
 CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats) {
   if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
   check(cudaSetDevice(0), "selecting device 0");
-  const Bvh bvh = build_bvh(scene);
-  DeviceArray<BvhNode> nodes;
-  DeviceArray<BvhPrimitive> prims;
+  cuda::DeviceStore store;
+  const BvhView view = cuda::upload_bvh(store, build_bvh(scene));
   DeviceArray<Ray> d_rays;
   DeviceArray<Hit> d_hits;
   DeviceArray<uint8_t> d_blocked;
-  nodes.upload(bvh.nodes.data(), bvh.nodes.size(), nullptr);
-  prims.upload(bvh.primitives.data(), bvh.primitives.size(), nullptr);
-  const BvhView view{nodes.data, prims.data, uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()), bvh.sphere_geom};
   CudaRayTiming t;
   const uint32_t n = uint32_t(rays.size());
   if (n == 0) return t;  // no launch of zero blocks
