@@ -349,6 +349,11 @@ int main(int argc, char** argv) {
   view->add_option("--set", va.sets, "set any option: key=value (repeatable; see `restir options`)");
   view->add_option("--config", va.config, "JSON file of options (applied before --set)");
   view->add_option("--reference", va.reference, "converged EXR of the same view: relMSE / FLIP readouts, error map, A/B split");
+  view->add_flag("--background-reference", va.background_reference,
+                 "render a pt reference of the view beside the frames (it restarts when the view changes): relMSE / FLIP, error map, A/B split without --reference");
+  view->add_option("--redraw-budget", va.redraw_budget,
+                   "share of wall time the window may spend redrawing while nothing moves (default 0.03; 1: redraw every frame)")
+      ->check(CLI::Range(0.001f, 1.0f));
   view->add_option("--scale", va.scale, "render scale: 1, 0.5 or 0.25 of film.width x film.height")->check(CLI::IsMember({1.0f, 0.5f, 0.25f}));
   view->add_option("--script", va.script, "run a script of commands (set, frames, screenshot, ...; see src/viewer/script.h) and exit");
   view->add_option("--bench", va.bench, "render N frames bare and N through the viewer loop; print ms/frame and the ratio")->check(integer_in(1, 100000));

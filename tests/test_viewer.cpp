@@ -16,6 +16,8 @@
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "test_helpers.h"
+#include "scene/animation.h"
+#include "viewer/background_reference.h"
 #include "viewer/camera_controller.h"
 #include "viewer/display.h"
 #include "viewer/option_model.h"
@@ -47,6 +49,31 @@ double max_abs_diff(const Mat4& a, const Mat4& b) {
 }
 
 Image constant(int w, int h, float v) { return Image(w, h, Rgb(v)); }
+
+bool same_pixels(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (a.pixels[i][c] != b.pixels[i][c]) return false;
+  return true;
+}
+
+// Runs a script against a headless session to its end (the GUI's loop without the window).
+std::string run_headless(Session& session, ScriptRunner& runner, const std::function<void(const std::string&)>& shot) {
+  try {
+    for (int guard = 0; guard < 1000000; ++guard) {
+      const ScriptRunner::Step st = runner.step(shot);
+      if (st == ScriptRunner::Step::done) return "";
+      if (st == ScriptRunner::Step::waiting) {
+        session.wait_frames_done();
+        session.wait_reference_done();
+      }
+    }
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "the script did not end";
+}
 
 }  // namespace
 
@@ -327,5 +354,154 @@ TEST_SUITE("viewer") {
     CHECK(saved.output.tonemap == Tonemap::reinhard);
     CHECK(saved.film.width == 24);
     fs::remove_all(dir);
+  }
+
+  TEST_CASE("redraw pacing: input at once, a new frame within the budget, at least once a second") {
+    DrawPacer p(0.05);
+    CHECK(p.due(0, false, false));  // never drawn: the once-a-second redraw is due
+    p.drawn(0, 0.02, false);        // a 20 ms redraw: at 5% the next new frame waits 0.4 s
+    CHECK(p.cost_s() == doctest::Approx(0.02).scale(1e-9));
+    CHECK_FALSE(p.due(0.1, false, true));
+    CHECK(p.wait_s(0.1, true) == doctest::Approx(0.3).scale(1e-9));
+    CHECK(p.due(0.4, false, true));
+    CHECK_FALSE(p.due(0.5, false, false));  // nothing new: no redraw
+    CHECK(p.due(1.0, false, false));        // but once a second
+    CHECK(p.due(0.1, true, false));         // input draws at once ...
+    p.drawn(0.1, 0.02, true);
+    for (int i = 0; i < 3; ++i) {  // ... and settles for three more redraws
+      CHECK(p.due(0.11, false, false));
+      CHECK(p.wait_s(0.11, false) == doctest::Approx(1.0 / 60).scale(1e-9));
+      p.drawn(0.11, 0.02, false);
+    }
+    CHECK_FALSE(p.due(0.12, false, false));
+    DrawPacer every(1.0);  // budget 100%: every new frame once the last redraw is done
+    every.drawn(0, 0.02, false);
+    CHECK(every.due(0.021, false, true));
+    CHECK_FALSE(every.due(0.019, false, true));
+  }
+
+  TEST_CASE("background reference: the path tracer of the viewer's integral, view and pose, its own seed") {
+    Scene scene = load_scene(own_scene("cornell-box.pbrt"));
+    Options defaults;
+    apply_scene_hints(defaults, scene.hints);
+    const Options o = options_for(scene, {"integrator=restir-di", "film.width=16", "film.height=12", "render.spp=1", "path.max_depth=5"});
+    const CameraKey key = scene.camera.keys.front();
+    BackgroundReference bg(scene, defaults);
+    CHECK(bg.aim(o, key, 0));
+    for (int i = 0; i < 6; ++i) bg.pass();
+    CHECK(bg.spp() == 6);
+    // Exactly `restir render` of the reference options over as many one-sample frames.
+    Options r = reference_options(defaults, o);
+    CHECK(r.integrator == "pt");
+    CHECK(r.path.max_depth == 1);  // restir-di estimates direct light
+    r.render.spp = 1;
+    r.render.frames = 6;
+    r.render.seed = reference_seed(o.render.seed);
+    CHECK(r.render.seed != o.render.seed);  // noise independent of the frames it is compared with
+    Scene seen = scene;
+    seen.camera.keys = {key};
+    CHECK(same_pixels(render(seen, r).average, bg.mean()));
+    // ReSTIR's options, the tone mapper and the thread count leave it alone ...
+    Options same = o;
+    same.di.reuse.spatial_neighbors = 0;
+    same.di.light_candidates = 4;
+    same.output.tonemap = Tonemap::aces;
+    same.render.threads = 1;
+    CHECK_FALSE(bg.aim(same, key, 5));  // (a static scene has one pose)
+    CHECK(bg.spp() == 6);
+    // ... the integral, the camera, the film and the seed restart it.
+    Options pt = o;
+    pt.integrator = "pt";
+    CHECK(bg.aim(pt, key, 0));
+    CHECK(bg.spp() == 0);
+    CHECK(bg.options().path.max_depth == 5);
+    CameraKey turned = key;
+    turned.fov_degrees += 1;
+    CHECK(bg.aim(pt, turned, 0));
+    pt.film.width = 17;
+    CHECK(bg.aim(pt, turned, 0));
+    pt.render.seed = 9;
+    CHECK(bg.aim(pt, turned, 0));
+  }
+
+  TEST_CASE("background reference of an animated scene: the scene frozen at the viewer's frame, held after the last key") {
+    Scene scene = load_scene(own_scene("dynamic-room.pbrt"));
+    REQUIRE(scene_animated(scene));
+    Options defaults;
+    apply_scene_hints(defaults, scene.hints);
+    const Options o = options_for(scene, {"integrator=pt", "film.width=12", "film.height=8", "render.spp=1", "path.max_depth=2"});
+    const CameraKey key = scene.camera.keys.front();
+    BackgroundReference bg(scene, defaults);
+    CHECK(bg.aim(o, key, 10));  // the switched light is off from frame 8 on
+    for (int i = 0; i < 3; ++i) bg.pass();
+    Options r = bg.options();
+    r.render.frames = 3;
+    Scene frozen = scene_at_frame(scene, 10);
+    frozen.camera.keys = {key};
+    CHECK(same_pixels(render(frozen, r).average, bg.mean()));
+    CHECK(bg.aim(o, key, 11));        // the sweeping light moved
+    CHECK(bg.aim(o, key, 40));        // past the last key (32) ...
+    CHECK_FALSE(bg.aim(o, key, 90));  // ... the pose holds
+  }
+
+  TEST_CASE("headless session: the background reference follows the view and feeds the metrics") {
+    const fs::path dir = fs::temp_directory_path() / ("restir-viewer-bgref-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string d = dir.string();
+    ViewArgs args;
+    args.scene = own_scene("cornell-box.pbrt");
+    args.sets = {"film.width=16", "film.height=12", "integrator=restir-di"};
+    Session session(args);
+    CHECK(session.reference() == nullptr);
+    ViewState view;
+    Image first;
+    int shots = 0;
+    auto shot = [&](const std::string&) {
+      Image hdr;
+      FrameReadout r;
+      session.take_frame(view.accumulate, true, hdr, r);
+      REQUIRE(session.reference() != nullptr);
+      if (shots++ == 0) first = *session.reference();
+      CHECK(r.reference_spp == 32);
+      CHECK(session.reference_spp() == 32);
+      if (shots > 1) return;
+      // The frames converge to it: restir-di's mean over 8 frames is near the reference's. Both
+      // are noisy at these counts, so only the image mean, of luminance clamped to 1 (pixels that
+      // see the light, at ~17, would otherwise decide it alone).
+      double m = 0, mr = 0;
+      for (size_t i = 0; i < hdr.size(); ++i)
+        m += std::min(1.0f, luminance(hdr.pixels[i])), mr += std::min(1.0f, luminance(session.reference()->pixels[i]));
+      CHECK(m == doctest::Approx(mr).epsilon(0.05));
+    };
+    ScriptRunner runner(parse_script("set film.width 20\nset film.width 16\nreference on 32\nframes 8\nreference wait\nscreenshot " + d + "/a\n"
+                                     "set di.spatial_neighbors 0\nframes 1\nscreenshot " + d + "/b\n"
+                                     "camera orbit 10 0\nframes 1\nreference wait\nscreenshot " + d + "/c\n",
+                                     "t.txt"),
+                        session, view);
+    session.render_frames(0);
+    session.start({});
+    const std::string error = run_headless(session, runner, shot);
+    session.stop();
+    CHECK(error == "");
+    CHECK(shots == 3);
+    // The reference of the turned camera is another image; ReSTIR's option did not restart it.
+    CHECK_FALSE(same_pixels(first, *session.reference()));
+    fs::remove_all(dir);
+  }
+
+  TEST_CASE("script: reference commands") {
+    const Script s = parse_script("reference on\nreference on 64\nreference off\nreference wait\n", "s.txt");
+    CHECK(s.commands.size() == 4);
+    CHECK(parse_error("reference on 0") == "s.txt:1: reference on: '0' is not a sample count in [1, 16777216]");
+    CHECK(parse_error("reference maybe").starts_with("s.txt:1: reference: expected"));
+    CHECK(parse_error("reference wait 3").starts_with("s.txt:1: reference: expected"));
+    ViewArgs args;
+    args.scene = own_scene("cornell-box.pbrt");
+    args.sets = {"film.width=8", "film.height=8"};
+    Session session(args);
+    ViewState view;
+    ScriptRunner runner(parse_script("reference wait\n", "w.txt"), session, view);
+    CHECK_THROWS_WITH_AS(runner.step([](const std::string&) {}), "w.txt:1: reference wait: no background reference with a target (reference on SPP)",
+                         std::runtime_error);
   }
 }

@@ -181,6 +181,37 @@ for f in sn0 sn5 debug camera; do
   [ "$(metric "$work/$f.exr" "$work/again/$f.exr" mse)" = "0" ] || fail "$f differs between two runs of the same script"
 done
 
+# 7b. Without --reference: the background reference (pt at depth 1, 64 spp, rendered beside the
+# frames) gives the metrics, the error map and the split view; a camera move restarts it.
+cat > "$work/bg.txt" <<SCRIPT
+set integrator restir-di
+set film.width 64
+set film.height 36
+reference on 64
+frames 4
+reference wait
+screenshot $work/bg-radiance
+view error
+screenshot $work/bg-error
+view split
+screenshot $work/bg-split
+view radiance
+camera orbit 10 0
+frames 1
+reference wait
+screenshot $work/bg-moved
+SCRIPT
+view "$scene" --script "$work/bg.txt"
+for f in bg-radiance bg-error bg-split bg-moved; do
+  grep -q '"reference": "background"' "$work/$f.json" || fail "$f.json: no background reference"
+  [ "$(json_field "$work/$f.json" reference_spp)" = "64" ] || fail "$f.json: reference_spp is not 64"
+  r=$(json_field "$work/$f.json" rel_mse)
+  [ -n "$r" ] && less 0 "$r" && less "$r" 1 || fail "$f.json: rel_mse '$r' against the background reference"
+done
+less 0 "$(metric "$work/bg-error.png" "$work/bg-radiance.png" mse)" || fail "the error view against the background reference shows the radiance"
+less 0 "$(metric "$work/bg-split.png" "$work/bg-radiance.png" mse)" || fail "the split view against the background reference shows the radiance"
+echo "background reference: rel_mse $(json_field "$work/bg-radiance.json" rel_mse) at 64 spp"
+
 # 8. Bad input: one error line naming the script's file and line, exit 1, before a window opens.
 printf 'frames 1\nset di.spatial_neighbors 99\n' > "$work/bad1.txt"
 printf 'frames 1\nzoom 3\n' > "$work/bad2.txt"

@@ -132,6 +132,16 @@ void FrameRenderer::set_threads(int threads) {
   limit_ = std::make_unique<ThreadLimit>(threads);
 }
 
+Options reference_options(const Options& defaults, const Options& o) {
+  Options r = defaults;
+  r.integrator = "pt";
+  r.film = o.film;
+  r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
+  r.render.camera_path.clear();
+  r.output = OutputOptions{};
+  return r;
+}
+
 double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
                                    const std::function<void(int, int)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();  // the frame's time includes moving the scene

@@ -33,6 +33,13 @@ struct RenderHooks {
 // option values. Call before user settings so that they override the scene.
 void apply_scene_hints(Options& o, const SceneHints& hints);
 
+// The path tracer's options whose converged image an unbiased run of `o` converges to: pt on o's
+// film and path length (restir-di estimates direct light only: depth 1), every other option from
+// `defaults` (the scene's hints), no camera path, the display transform at its defaults. The
+// sample count, seed, frames and threads are the caller's to set. Used by the study's cached
+// references and the viewer's background reference, so both compare against the same integral.
+Options reference_options(const Options& defaults, const Options& o);
+
 class Accel;
 class Lights;
 class RayQueries;

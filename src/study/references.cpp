@@ -42,10 +42,7 @@ ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const 
                                       const std::string& scene_file_text, const Options& scene_defaults,
                                       const Options& o, int frame) const {
   ReferenceJob j;
-  Options r = scene_defaults;
-  set_option(r, "integrator", "pt");
-  r.film = o.film;
-  r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
+  Options r = reference_options(scene_defaults, o);
   set_option(r, "render.spp", std::to_string(s.reference.spp));
   set_option(r, "render.seed", std::to_string(s.reference.seed));
   set_option(r, "render.frames", "1");

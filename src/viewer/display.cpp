@@ -117,4 +117,23 @@ double FrameHistory::mean_ms(size_t n) const {
   return s / double(n);
 }
 
+bool DrawPacer::due(double now, bool input, bool frame_waiting) const {
+  if (input || settle_ > 0 || now - last_ >= 1.0) return true;
+  return frame_waiting && now - last_ >= interval();
+}
+
+double DrawPacer::wait_s(double now, bool frame_waiting) const {
+  if (settle_ > 0) return 1.0 / 60;
+  double t = last_ + 1.0 - now;
+  if (frame_waiting) t = std::min(t, last_ + interval() - now);
+  return std::clamp(t, 0.0, 1.0);
+}
+
+void DrawPacer::drawn(double now, double cost_s, bool input) {
+  // The first redraw sets the mean; then a slow average, so one stall does not stop the display.
+  cost_ = cost_ == 0 ? cost_s : 0.8 * cost_ + 0.2 * cost_s;
+  last_ = now;
+  settle_ = input ? 3 : std::max(0, settle_ - 1);
+}
+
 }  // namespace rl::viewer

@@ -70,4 +70,33 @@ class FrameHistory {
   size_t next_ = 0;
 };
 
+// When the window redraws. A redraw takes CPU from the renderer (with software OpenGL 8-20 ms per
+// redraw on the machines this was measured on; under 1 ms with a GPU driver), so while nothing
+// moves the window spends at most `budget` of the wall time drawing: a new frame is drawn once
+// the time since the last redraw is at least the redraw's cost over the budget. Input draws at
+// once and for a few redraws after (the panel shows a click's effect a frame later), and the
+// window redraws at least once a second. The renderer renders every frame either way; fewer of
+// them are shown when redraws are expensive.
+class DrawPacer {
+ public:
+  explicit DrawPacer(double budget = 0.03) { set_budget(budget); }
+  void set_budget(double b) { budget_ = b < 1e-3 ? 1e-3 : b > 1 ? 1 : b; }
+  double budget() const { return budget_; }
+  // Whether to redraw now (s: a steady clock in seconds).
+  bool due(double now, bool input, bool frame_waiting) const;
+  // Seconds the window may sleep before it has to look again (a waiting frame, the settle
+  // redraws, the once-a-second redraw).
+  double wait_s(double now, bool frame_waiting) const;
+  // After a redraw that took cost_s seconds.
+  void drawn(double now, double cost_s, bool input);
+  double cost_s() const { return cost_; }
+
+ private:
+  double interval() const { return cost_ / budget_; }
+  double budget_ = 0.03;
+  double cost_ = 0;          // exponential mean of the redraw cost (s)
+  double last_ = -1e9;       // when the window was last drawn
+  int settle_ = 0;           // redraws still to make after input
+};
+
 }  // namespace rl::viewer

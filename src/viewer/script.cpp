@@ -74,11 +74,17 @@ void check_command(const ScriptCommand& c, Fail fail) {
     const std::string sub = n ? c.args[0] : "";
     if (!((sub == "start" || sub == "stop") && n == 1) && !(sub == "save" && n == 2))
       fail("record: expected 'record start', 'record stop' or 'record save PATH'");
+  } else if (c.verb == "reference") {
+    const std::string sub = n ? c.args[0] : "";
+    if (!((sub == "off" || sub == "wait") && n == 1) && !(sub == "on" && (n == 1 || n == 2)))
+      fail("reference: expected 'reference on [SPP]', 'reference off' or 'reference wait'");
+    if (sub == "on" && n == 2 && (!parse_int(c.args[1], i) || i < 1 || i > (1 << 24)))
+      fail("reference on: '" + c.args[1] + "' is not a sample count in [1, 16777216]");
   } else if (c.verb == "quit") {
     count(0, "no arguments");
   } else {
     fail("unknown command '" + c.verb +
-         "' (commands: set, frames, screenshot, view, split, accumulate, scale, camera, record, save-config, quit)");
+         "' (commands: set, frames, screenshot, view, split, accumulate, scale, camera, record, reference, save-config, quit)");
   }
 }
 

@@ -11,6 +11,8 @@
 //   scale S              render scale: 1, 0.5 or 0.25 of the film size
 //   camera orbit DYAW DPITCH | camera move DX DY DZ | camera reset | camera mode orbit|fly
 //   record start | record stop | record save PATH     camera path (render.camera_path format)
+//   reference on [SPP]   render the background reference (pt) beside the frames, to SPP samples
+//                        per pixel (default 4096); reference off | reference wait (until it has them)
 //   save-config PATH     the current options as a --config JSON file
 //   quit                 close the viewer (the end of the script does too)
 #pragma once

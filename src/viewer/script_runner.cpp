@@ -11,8 +11,9 @@ std::string ScriptRunner::where() const {
 
 ScriptRunner::Step ScriptRunner::step(const std::function<void(const std::string&)>& screenshot) {
   if (waiting_) {
-    if (!session_.frames_done()) return Step::waiting;
+    if (!(waiting_reference_ ? session_.reference_done() : session_.frames_done())) return Step::waiting;
     waiting_ = false;
+    if (waiting_reference_) session_.poll_reference();
     const std::string err = session_.error();
     if (!err.empty()) throw std::runtime_error(where() + ": render failed: " + err);
   }
@@ -27,8 +28,9 @@ ScriptRunner::Step ScriptRunner::step(const std::function<void(const std::string
     } catch (const std::exception& e) {
       throw std::runtime_error(script_.where(c) + ": " + e.what());
     }
-    if (c.verb == "frames") {
+    if (c.verb == "frames" || (c.verb == "reference" && c.args[0] == "wait")) {
       waiting_ = true;
+      waiting_reference_ = c.verb == "reference";
       return Step::waiting;
     }
     if (c.verb == "screenshot") return Step::drawn;
@@ -71,6 +73,17 @@ void ScriptRunner::run(const ScriptCommand& c, const std::function<void(const st
   } else if (c.verb == "record") {
     if (a[0] == "save") session_.save_camera_path(a[1]);
     else session_.record(a[0] == "start");
+  } else if (c.verb == "reference") {
+    ReferenceSettings r = session_.reference_settings();
+    if (a[0] == "wait") {
+      if (!r.on || r.target_spp == 0) throw std::runtime_error("reference wait: no background reference with a target (reference on SPP)");
+      return;
+    }
+    if (session_.has_reference_file()) throw std::runtime_error("reference: the viewer has a --reference image");
+    r.on = a[0] == "on";
+    if (r.on) r.target_spp = 4096;
+    if (a.size() == 2) parse_int(a[1], r.target_spp);
+    session_.set_reference(r);
   } else if (c.verb == "save-config") {
     session_.save_config(a[0]);
   }

@@ -14,7 +14,7 @@ namespace rl::viewer {
 class ScriptRunner {
  public:
   enum class Step {
-    waiting,  // frames are rendering: call again after drawing
+    waiting,  // frames (or the background reference) are rendering: call again after drawing
     drawn,    // ran a screenshot: draw one frame (and capture the window) before the next step
     done,     // the script ended or said quit
   };
@@ -34,6 +34,7 @@ class ScriptRunner {
   ViewState& view_;
   size_t next_ = 0;
   bool waiting_ = false;
+  bool waiting_reference_ = false;  // for the background reference, not for frames
 };
 
 }  // namespace rl::viewer

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "core/build_info.h"
@@ -13,6 +14,7 @@
 #include "integrators/integrator.h"
 #include "scene/camera.h"
 #include "scene/loader.h"
+#include "viewer/background_reference.h"
 
 namespace rl::viewer {
 
@@ -61,9 +63,14 @@ Session::Session(const ViewArgs& a)
   // Its size is checked against the render's when it is used: the film size is an option that
   // may change during the session.
   if (!a.reference.empty()) reference_ = read_image(a.reference);
+  apply_scene_hints(defaults_, scene_.hints);
   pending_ = effective_options();
   pending_camera_ = camera_.key();
   pending_path_key_ = camera_.path_key();
+  if (a.background_reference) {
+    reference_settings_.on = true;
+    worker_reference_ = reference_settings_;
+  }
 }
 
 Session::~Session() { stop(); }
@@ -78,6 +85,7 @@ void Session::stop() {
     std::lock_guard lk(m_);
     quit_ = true;
     abort_ = true;
+    reference_abort_ = true;
   }
   cv_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -96,13 +104,24 @@ void Session::push_restart() {
     pending_ = effective_options();
     restart_ = true;
     abort_ = true;  // the frame being rendered is of the old options: drop it
+    reference_full_ = false;  // the worker re-aims the reference
   }
   cv_.notify_all();
 }
 
+std::string Session::reference_key(const Options& o) const {
+  Options r = reference_options(defaults_, o);
+  r.render.seed = o.render.seed;
+  r.render.backend = o.render.backend;
+  return options_to_json(r, -1);
+}
+
 Effect Session::set(const std::string& key, const std::string& value) {
+  const std::string before = reference_key(options_);
   const Effect e = apply_option(options_, key, value);
   if (e == Effect::restart) {
+    // A change the background reference depends on cuts its pass short; ReSTIR's options do not.
+    if (reference_key(options_) != before) reference_abort_ = true;
     push_restart();
   } else if (e == Effect::threads) {
     {
@@ -120,12 +139,16 @@ void Session::set_scale(float s) {
   if (s == scale_) return;
   scale_ = s;
   scaled_reference_.reset();
+  reference_abort_ = true;
   push_restart();
 }
 
 const Image* Session::reference() const {
-  if (!reference_) return nullptr;
   const Options o = effective_options();
+  if (!reference_) {
+    const bool fits = ui_reference_.width == o.film.width && ui_reference_.height == o.film.height;
+    return reference_settings_.on && ui_reference_spp_ > 0 && fits ? &ui_reference_ : nullptr;
+  }
   const Image* ref = &*reference_;
   if (scale_ != 1) {
     // The reference at the render's size: box-filtered over the factor's pixel blocks, which is
@@ -151,7 +174,9 @@ void Session::camera_moved() {
     pending_path_key_ = camera_.path_key();
     camera_changed_ = true;
     play_.reset();
+    reference_full_ = false;
   }
+  reference_abort_ = true;
   cv_.notify_all();
 }
 
@@ -173,7 +198,9 @@ void Session::play_camera_path() {
     pending_ = effective_options();
     restart_ = true;  // from frame 0 with no history, as `restir render` starts
     abort_ = true;
+    reference_full_ = false;
   }
+  reference_abort_ = true;
   cv_.notify_all();
 }
 
@@ -244,18 +271,73 @@ bool Session::frames_done() const {
   return !error_.empty() || (budget_ >= 0 && done_ >= budget_);
 }
 
+long long Session::frames_completed() const {
+  std::lock_guard lk(m_);
+  return done_;
+}
+
 void Session::wait_frames_done() const {
   std::unique_lock lk(m_);
   done_cv_.wait(lk, [&] { return !error_.empty() || (budget_ >= 0 && done_ >= budget_); });
 }
 
 bool Session::take_frame(bool accumulate, bool force, Image& hdr, FrameReadout& r) {
+  // One lock for both: a frame and the reference it is compared with are of the same view.
   std::lock_guard lk(m_);
-  if (!new_frame_ && !force) return false;
+  const bool reference = copy_reference();
+  if (!new_frame_ && !force && !reference) return false;
   new_frame_ = false;
-  hdr = accumulate ? shared_mean_ : shared_last_;
+  hdr = accum_.shown(accumulate);
   r = shared_readout_;
+  r.reference_spp = ui_reference_spp_;
+  r.reference_serial = ui_reference_serial_;
   return true;
+}
+
+bool Session::frame_waiting() const {
+  std::lock_guard lk(m_);
+  return new_frame_ || reference_serial_ != ui_reference_serial_;
+}
+
+std::vector<double> Session::take_frame_times() {
+  std::lock_guard lk(m_);
+  return std::exchange(frame_times_, {});
+}
+
+void Session::set_reference(const ReferenceSettings& s) {
+  if (s.target_spp < 0 || s.target_spp > (1 << 24)) throw OptionError(fmt::format("reference target {} spp is not in [0, 16777216]", s.target_spp));
+  if (!(s.share > 0 && s.share < 1)) throw OptionError(fmt::format("reference share {} is not in (0, 1)", s.share));
+  reference_settings_ = s;
+  {
+    std::lock_guard lk(m_);
+    worker_reference_ = s;
+    reference_full_ = false;
+  }
+  if (!s.on) reference_abort_ = true;
+  cv_.notify_all();
+}
+
+bool Session::poll_reference() {
+  std::lock_guard lk(m_);
+  return copy_reference();
+}
+
+bool Session::copy_reference() {
+  if (reference_serial_ == ui_reference_serial_) return false;
+  if (shared_reference_spp_ > 0) ui_reference_ = shared_reference_;
+  ui_reference_spp_ = shared_reference_spp_;
+  ui_reference_serial_ = reference_serial_;
+  return true;
+}
+
+bool Session::reference_done() const {
+  std::lock_guard lk(m_);
+  return !error_.empty() || !worker_reference_.on || reference_full_;
+}
+
+void Session::wait_reference_done() const {
+  std::unique_lock lk(m_);
+  done_cv_.wait(lk, [&] { return !error_.empty() || !worker_reference_.on || reference_full_; });
 }
 
 std::string Session::error() const {
@@ -302,60 +384,128 @@ void Session::screenshot(const std::string& base, const Image& hdr, const Image&
   write_text_file_atomic(stem + ".json", side.dump(2) + "\n");
 }
 
+// Aims the background reference at the view the viewer shows (worker thread; true: it
+// restarted). The caller publishes the restart under the lock (reference_restarted).
+bool Session::aim_reference(const Options& o, const CameraKey& camera, int frame) {
+  if (!background_) background_ = std::make_unique<BackgroundReference>(scene_, defaults_);
+  return background_->aim(o, camera, frame);
+}
+
+void Session::reference_restarted() {
+  reference_ms_ = view_ms_ = 0;  // the time shares restart with the reference
+  shared_reference_spp_ = 0;      // no metrics against the old view's image
+  reference_full_ = false;
+  ++reference_serial_;
+}
+
+// One pass of the background reference (worker thread).
+void Session::reference_turn(const Options& o, const CameraKey& camera, int frame) {
+  int target = 0;
+  {
+    std::lock_guard lk(m_);
+    target = worker_reference_.target_spp;
+  }
+  if (aim_reference(o, camera, frame)) {
+    std::lock_guard lk(m_);
+    reference_restarted();
+  }
+  BackgroundReference& bg = *background_;
+  const bool full = target > 0 && bg.spp() >= target;
+  double ms = 0;
+  // Cut short only by a change of its own view or a quit (both set reference_abort_); abort_
+  // is about the viewer's frame.
+  if (!full) ms = bg.pass([this](int, int) {
+    if (reference_abort_) throw FrameAborted();
+  });
+  std::lock_guard lk(m_);
+  reference_ms_ += ms;
+  if (!full) {
+    shared_reference_ = bg.mean();
+    shared_reference_spp_ = bg.spp();
+    ++reference_serial_;
+  }
+  reference_full_ = target > 0 && bg.spp() >= target;
+}
+
 void Session::worker() {
   std::unique_ptr<FrameRenderer> renderer;
-  Accumulation accum;
   Image frame;
   CameraKey camera = pending_camera_;
   PathKey path_key = pending_path_key_;
   for (;;) {
-    bool restart = false, threads = false, moved = false;
+    bool restart = false, threads = false, moved = false, reference = false, reference_on = false;
     Options o;
     {
       std::unique_lock lk(m_);
-      cv_.wait(lk, [&] { return quit_ || (!paused_ && error_.empty() && (budget_ < 0 || done_ < budget_)); });
+      auto view_wanted = [&] { return !paused_ && (budget_ < 0 || done_ < budget_); };
+      auto reference_wanted = [&] { return worker_reference_.on && !reference_full_; };
+      cv_.wait(lk, [&] { return quit_ || (error_.empty() && (view_wanted() || reference_wanted())); });
       if (quit_) return;
-      std::swap(restart, restart_);
-      abort_ = false;  // a change from here on aborts the frame below
-      std::swap(threads, threads_changed_);
-      std::swap(moved, camera_changed_);
+      // The reference's turn when the viewer renders nothing, or when it is behind its share of
+      // the render time.
+      const double share = worker_reference_.share;
+      reference = reference_wanted() && (!view_wanted() || reference_ms_ <= share * (reference_ms_ + view_ms_));
+      reference_on = worker_reference_.on;
       o = pending_;
-      camera = pending_camera_;
-      path_key = pending_path_key_;
-      if (play_ && play_index_ < play_frames_) {
-        camera = play_->at_frame(play_index_, play_frames_);
-        moved = play_index_++ > 0;
-      } else if (play_) {
-        camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
+      if (reference) {
+        reference_abort_ = false;
+        camera = play_ ? play_->at_frame(std::min(play_index_, play_frames_ - 1), play_frames_) : pending_camera_;
+      } else {
+        std::swap(restart, restart_);
+        abort_ = false;  // a change from here on aborts the frame below
+        std::swap(threads, threads_changed_);
+        std::swap(moved, camera_changed_);
+        camera = pending_camera_;
+        path_key = pending_path_key_;
+        if (play_ && play_index_ < play_frames_) {
+          camera = play_->at_frame(play_index_, play_frames_);
+          moved = play_index_++ > 0;
+        } else if (play_) {
+          camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
+        }
       }
     }
     try {
-      if (!renderer) renderer = std::make_unique<FrameRenderer>(scene_, o);
-      else if (restart) renderer->reset(o);
-      else if (threads) renderer->set_threads(o.render.threads);
-      if (restart || moved) accum.reset();
-      StageTimes stages;
-      // A restart or quit requested mid-frame ends the frame at the integrator's next progress
-      // report (a tile or a wave) instead of after it: a slow frame does not delay the change.
-      const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages, [this](int, int) {
-        if (abort_) throw FrameAborted();
-      });
-      accum.add(frame);
-      std::lock_guard lk(m_);
-      if (worker_recording_) recorded_.push_back(path_key);
-      shared_mean_ = accum.mean();
-      shared_last_ = accum.last();
-      shared_readout_ = {ms, std::move(stages), accum.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
-      new_frame_ = true;
-      ++done_;
+      if (reference) {
+        reference_turn(o, camera, view_frame_);
+      } else {
+        if (!renderer) renderer = std::make_unique<FrameRenderer>(scene_, o);
+        else if (restart) renderer->reset(o);
+        else if (threads) renderer->set_threads(o.render.threads);
+        if (restart || moved) {
+          std::lock_guard lk(m_);
+          accum_.reset();
+        }
+        StageTimes stages;
+        // A restart or quit requested mid-frame ends the frame at the integrator's next progress
+        // report (a tile or a wave) instead of after it: a slow frame does not delay the change.
+        const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages, [this](int, int) {
+          if (abort_) throw FrameAborted();
+        });
+        // A reference of another view must not be compared with this frame: re-aim it first.
+        const bool reference_moved = reference_on && aim_reference(o, camera, renderer->frames_rendered() - 1);
+        std::lock_guard lk(m_);
+        accum_.add(frame);  // under the lock: the UI copies what it shows straight from it
+        if (reference_moved) reference_restarted();
+        view_frame_ = renderer->frames_rendered() - 1;
+        view_ms_ += ms;
+        frame_times_.push_back(ms);
+        if (frame_times_.size() > 4096) frame_times_.erase(frame_times_.begin(), frame_times_.end() - 4096);
+        if (worker_recording_) recorded_.push_back(path_key);
+        shared_readout_ = {ms, std::move(stages), accum_.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
+        new_frame_ = true;
+        ++done_;
+      }
     } catch (const FrameAborted&) {
-      // Only a pending restart or quit aborts: the next turn replaces the integrator, whose state
-      // is now half a frame's (the BVH and lights stay), or leaves.
+      // Only a pending restart, view change or quit aborts: the next turn replaces the
+      // integrator, whose state is now half a frame's (the BVH and lights stay), re-aims the
+      // reference, or leaves.
       continue;
     } catch (const std::exception& e) {
       std::lock_guard lk(m_);
-      error_ = e.what();
-      renderer.reset();  // rebuilt from the pending options once the error is cleared
+      error_ = reference ? std::string("background reference: ") + e.what() : e.what();
+      if (reference) background_.reset();
+      else renderer.reset();  // rebuilt from the pending options once the error is cleared
     }
     done_cv_.notify_all();
     if (wake_) wake_();

@@ -26,6 +26,8 @@
 
 namespace rl::viewer {
 
+class BackgroundReference;
+
 // `restir view` arguments (app/main.cpp fills them from the command line).
 struct ViewArgs {
   std::string scene, integrator, config, script, reference;
@@ -35,6 +37,17 @@ struct ViewArgs {
   int bench = 0;    // --bench N: N frames bare, then N through the viewer loop; print the ratio
   int width = 0, height = 0;  // window size (0: fit the image)
   bool quiet = false;
+  bool background_reference = false;  // --background-reference: start with it on
+  float redraw_budget = 0.03f;  // --redraw-budget: the window's share of wall time for redraws (DrawPacer)
+};
+
+// The background reference's settings (background_reference.h), set from the UI thread.
+struct ReferenceSettings {
+  bool on = false;
+  int target_spp = 4096;  // it stops there (0: never)
+  // Its share of the render time while the viewer renders frames (it takes all of it while the
+  // viewer is paused or, in a script, between `frames` commands).
+  float share = 0.25f;
 };
 
 // The options of a viewer session: defaults < the scene file < 1 spp per frame (the viewer
@@ -49,6 +62,8 @@ struct FrameReadout {
   int frame = 0;        // frame index since the integrator was (re)created
   int width = 0, height = 0;
   long long serial = 0;  // frames rendered by the session before this one + 1
+  int reference_spp = 0;           // samples per pixel of the background reference (0: none yet)
+  long long reference_serial = 0;  // changes with each new background reference image
 };
 
 class Session {
@@ -91,18 +106,39 @@ class Session {
   // Script mode: render exactly n more frames, then idle (until the next call); done() tells.
   void render_frames(int n);
   bool frames_done() const;
+  long long frames_completed() const;  // frames rendered since the session started
   void wait_frames_done() const;
 
   // Copies the shown image (mean or last frame) and its numbers when a frame arrived since the
   // last call, or always with `force`. False: nothing new.
   bool take_frame(bool accumulate, bool force, Image& hdr, FrameReadout& r);
+  // True when take_frame has something new (a frame or a background reference pass).
+  bool frame_waiting() const;
+  // The frame times (ms) of every frame rendered since the last call, oldest first: the window
+  // may show fewer frames than the worker renders (DrawPacer), the plot and fps count them all.
+  std::vector<double> take_frame_times();
   std::string error() const;  // the worker's error (it stops rendering); empty when fine
   void clear_error();
 
-  // The --reference image at the render's size (downsampled at a render scale < 1); null without
-  // one or when its size is not the film's.
+  // The reference the metrics and views compare against: the --reference image at the render's
+  // size (downsampled at a render scale < 1), else the background reference once it has a pass
+  // of the current view; null without one or when the --reference is not the film's size.
   const Image* reference() const;
-  bool has_reference() const { return reference_.has_value(); }
+  bool has_reference() const { return reference_.has_value() || reference_settings_.on; }
+  bool has_reference_file() const { return reference_.has_value(); }
+
+  // The background reference (background_reference.h). Changing it hands the worker the new
+  // settings; turning it off drops its image.
+  void set_reference(const ReferenceSettings& s);
+  const ReferenceSettings& reference_settings() const { return reference_settings_; }
+  // Copies a new background reference image from the worker, if any (take_frame does too); true
+  // when it changed. UI thread.
+  bool poll_reference();
+  int reference_spp() const { return ui_reference_spp_; }
+  // True when the background reference has reached its target for the current view (or failed:
+  // see error()).
+  bool reference_done() const;
+  void wait_reference_done() const;
   // Writes BASE.exr (hdr), BASE.png (ldr), BASE.json (sidecar: options, camera, view, metrics).
   void screenshot(const std::string& base, const Image& hdr, const Image& ldr, const FrameReadout& r,
                   const std::string& view_json) const;
@@ -112,9 +148,15 @@ class Session {
  private:
   void worker();
   void push_restart();
+  void reference_turn(const Options& o, const CameraKey& camera, int frame);
+  bool aim_reference(const Options& o, const CameraKey& camera, int frame);
+  void reference_restarted();  // under m_
+  bool copy_reference();       // under m_, UI thread
+  std::string reference_key(const Options& o) const;
 
   ViewArgs args_;
   Scene scene_;
+  Options defaults_;  // the scene's hints over the defaults (the background reference's base)
   Options options_;
   float scale_ = 1;
   std::optional<Image> reference_;
@@ -122,12 +164,17 @@ class Session {
   CameraController camera_;
   bool recording_ = false;
   bool paused_ = false;
+  ReferenceSettings reference_settings_;
+  Image ui_reference_;  // the UI thread's copy of the background reference
+  int ui_reference_spp_ = 0;
+  long long ui_reference_serial_ = 0;
 
   // Shared with the worker, under m_.
   mutable std::mutex m_;
   mutable std::condition_variable cv_;     // the worker waits on it for work
   mutable std::condition_variable done_cv_;  // script mode waits on it for frames
   std::atomic<bool> abort_{false};  // cut the frame being rendered (a restart or quit is pending)
+  std::atomic<bool> reference_abort_{false};  // cut the reference pass (its view changed)
   bool quit_ = false, restart_ = true, threads_changed_ = false, camera_changed_ = false, new_frame_ = false;
   Options pending_;
   CameraKey pending_camera_;
@@ -137,8 +184,18 @@ class Session {
   long long budget_ = -1, done_ = 0;  // frames to render (-1: no limit), frames rendered
   bool worker_recording_ = false;
   std::vector<PathKey> recorded_;
-  Image shared_mean_, shared_last_;
+  Accumulation accum_;  // the frames since the last change (written by the worker)
   FrameReadout shared_readout_;
+  std::vector<double> frame_times_;
+  // The background reference: settings handed over, progress reported back.
+  ReferenceSettings worker_reference_;
+  bool reference_full_ = false;  // it reached its target for the view it was last aimed at
+  Image shared_reference_;
+  int shared_reference_spp_ = 0;
+  long long reference_serial_ = 0;
+  double reference_ms_ = 0, view_ms_ = 0;  // render time of each since the reference restarted
+  int view_frame_ = 0;                     // the animation frame of the last frame shown
+  std::unique_ptr<BackgroundReference> background_;  // the worker's
   std::string error_;
   std::function<void()> wake_;
   std::thread thread_;

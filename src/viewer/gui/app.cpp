@@ -79,9 +79,9 @@ bool refresh_display(Gui& g) {
   const bool fresh = g.session.take_frame(g.view.accumulate, view_changed, g.hdr, g.readout);
   if (!fresh || g.hdr.empty()) return false;
   const double t1 = now_s();
-  if (g.readout.serial != g.last_serial) {
-    g.history.add(g.readout.ms);
+  if (g.readout.serial != g.last_serial || g.readout.reference_serial != g.shown_reference_serial) {
     g.last_serial = g.readout.serial;
+    g.shown_reference_serial = g.readout.reference_serial;
     update_metrics(g, false);
   } else if (last_view.accumulate != g.view.accumulate) {
     update_metrics(g, true);
@@ -270,10 +270,12 @@ void Gui::save_screenshot(const std::string& base) {
   update_metrics(*this, true);
   const std::string view_json = fmt::format(
       "{{\"view\": \"{}\", \"split\": {}, \"accumulate\": {}, \"scale\": {}, \"rel_mse\": {}, \"flip\": {}, "
-      "\"display\": \"{}\", \"display_max_difference\": {}}}",
+      "\"display\": \"{}\", \"display_max_difference\": {}, \"reference\": \"{}\", \"reference_spp\": {}}}",
       view_name(view.mode), view.split, view.accumulate ? "true" : "false", session.scale(),
       rel_mse >= 0 ? fmt::format("{:.9g}", rel_mse) : "null", flip >= 0 ? fmt::format("{:.9g}", flip) : "null",
-      gpu ? "gpu" : "cpu", display_diff);
+      gpu ? "gpu" : "cpu", display_diff,
+      !session.reference() ? "none" : session.has_reference_file() ? "file" : "background",
+      session.has_reference_file() || !session.reference() ? 0 : session.reference_spp());
   std::string stem = base;
   for (const char* ext : {".exr", ".png"})
     if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ext) == 0) stem.resize(stem.size() - 4);
@@ -305,18 +307,22 @@ bool controls_held(GLFWwindow* w) {
   return false;
 }
 
-// One turn of the interactive loop. It sleeps until input or a new frame (the worker posts an
-// empty event) and draws only then, plus a few frames after input (ImGui shows the effect of a
-// click a frame later) and once a second: on a CPU-bound renderer every drawn frame is taken
-// from the render threads (with software OpenGL a redraw of the window costs ~20 ms of CPU).
+// One turn of the interactive loop. It sleeps until input, a new frame (the worker posts an empty
+// event) or the pacer's next redraw, and draws only when the pacer says so (DrawPacer: at once on
+// input, else within the redraw budget): on a CPU-bound renderer every redraw is taken from the
+// render threads.
 void ui_iteration(Gui& g, double dt, bool interactive) {
-  glfwWaitEventsTimeout(g.settle > 0 ? 1.0 / 60 : 1.0);
+  const double wait = g.pacer.wait_s(now_s(), g.session.frame_waiting());
+  if (wait > 1e-4) glfwWaitEventsTimeout(wait);
+  else glfwPollEvents();
+  for (double ms : g.session.take_frame_times()) g.history.add(ms);
   const bool input = std::exchange(input_events, false) || controls_held(g.window);
-  const bool fresh = refresh_display(g);
-  if (!(input || fresh || g.settle > 0 || now_s() - g.last_draw > 1.0)) return;
+  const double t0 = now_s();
+  if (!g.pacer.due(t0, input, g.session.frame_waiting())) return;
+  refresh_display(g);
   draw_frame(g, dt, interactive);
-  g.last_draw = now_s();
-  g.settle = input ? 3 : std::max(0, g.settle - 1);
+  const double t1 = now_s();
+  g.pacer.drawn(t1, t1 - t0, input);
 }
 
 int run_script(Gui& g, Script script) {
@@ -380,25 +386,25 @@ BenchTime bench_bare(const Scene& scene, const Options& o, const CameraKey& key,
   return {(now_s() - t0) * 1000 / n, (cpu_s() - c0) * 1000 / n};
 }
 
-// N frames through the interactive loop, timed from the first frame shown to the n-th after it
-// (the session's first frame builds the BVH, as the bare loop's untimed warm-up does).
+// N frames through the interactive loop, timed from the first frame rendered to the n-th after it
+// (the session's first frame builds the BVH, as the bare loop's untimed warm-up does). The window
+// shows what the pacer lets it; the time is the renderer's, with the window's redraws beside it.
 BenchTime bench_viewer(Gui& g, int n, int round) {
-  const long long before = g.last_serial;
+  const long long before = g.session.frames_completed();
   g.session.render_frames(n + 1);
   double t0 = -1, c0 = 0;
-  long long first = -1;
   UiCost cost0;
-  while (!(first >= 0 && g.last_serial >= first + n)) {
+  while (g.session.frames_completed() < before + n + 1) {
     ui_iteration(g, 0, false);
-    if (first < 0 && g.last_serial > before) first = g.last_serial, t0 = now_s(), c0 = cpu_s(), cost0 = g.cost;
+    if (t0 < 0 && g.session.frames_completed() > before) t0 = now_s(), c0 = cpu_s(), cost0 = g.cost;
     if (!g.session.error().empty()) throw std::runtime_error("bench: " + g.session.error());
   }
   const BenchTime t{(now_s() - t0) * 1000 / n, (cpu_s() - c0) * 1000 / n};
   const UiCost& c = g.cost;
   std::fprintf(stderr, "bench round %d: viewer %.2f ms/frame (CPU %.2f); UI thread per frame: take %.2f, display transform "
-               "%.2f, upload %.2f, draw %.2f ms, %.2f draws\n", round, t.wall_ms, t.cpu_ms, (c.take_ms - cost0.take_ms) / n,
-               (c.compose_ms - cost0.compose_ms) / n, (c.upload_ms - cost0.upload_ms) / n, (c.draw_ms - cost0.draw_ms) / n,
-               double(c.draws - cost0.draws) / n);
+               "%.2f, upload %.2f, draw %.2f ms, %.2f redraws (redraw budget %.0f%%, redraw %.1f ms)\n", round, t.wall_ms, t.cpu_ms,
+               (c.take_ms - cost0.take_ms) / n, (c.compose_ms - cost0.compose_ms) / n, (c.upload_ms - cost0.upload_ms) / n,
+               (c.draw_ms - cost0.draw_ms) / n, double(c.draws - cost0.draws) / n, g.pacer.budget() * 100, g.pacer.cost_s() * 1000);
   return t;
 }
 
@@ -411,8 +417,9 @@ int run_bench(Gui& g, int n) {
   const CameraKey key = g.session.camera().key();
   g.session.render_frames(0);
   g.session.start([] { glfwPostEmptyEvent(); });
-  constexpr int kBenchRounds = 3;
+  constexpr int kBenchRounds = 5;
   BenchTime bare, viewer;
+  std::vector<double> wall_ratio, cpu_ratio;  // per round: the machine's load drifts between rounds
   for (int round = 0; round < kBenchRounds; ++round) {
     const BenchTime b = bench_bare(g.session.scene(), o, key, n);
     std::fprintf(stderr, "bench round %d: bare   %.2f ms/frame (CPU %.2f)\n", round, b.wall_ms, b.cpu_ms);
@@ -421,13 +428,21 @@ int run_bench(Gui& g, int n) {
     bare.cpu_ms += b.cpu_ms / kBenchRounds;
     viewer.wall_ms += v.wall_ms / kBenchRounds;
     viewer.cpu_ms += v.cpu_ms / kBenchRounds;
+    wall_ratio.push_back(v.wall_ms / b.wall_ms);
+    cpu_ratio.push_back(v.cpu_ms / b.cpu_ms);
   }
   g.session.stop();
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
   std::printf("bench %s %s %dx%d spp %d: bare %.2f ms/frame (%.2f fps), viewer %.2f ms/frame (%.2f fps): "
-              "viewer/bare wall %.3f (%+.1f%%), CPU %.3f (%+.1f%%)\n",
+              "viewer/bare wall %.3f (%+.1f%%), CPU %.3f (%+.1f%%); median of %d rounds: wall %+.1f%%, CPU %+.1f%% "
+              "(redraw budget %.0f%%)\n",
               o.integrator.c_str(), g.session.args().scene.c_str(), o.film.width, o.film.height, o.render.spp, bare.wall_ms,
               1000 / bare.wall_ms, viewer.wall_ms, 1000 / viewer.wall_ms, viewer.wall_ms / bare.wall_ms,
-              (viewer.wall_ms / bare.wall_ms - 1) * 100, viewer.cpu_ms / bare.cpu_ms, (viewer.cpu_ms / bare.cpu_ms - 1) * 100);
+              (viewer.wall_ms / bare.wall_ms - 1) * 100, viewer.cpu_ms / bare.cpu_ms, (viewer.cpu_ms / bare.cpu_ms - 1) * 100,
+              kBenchRounds, (median(wall_ratio) - 1) * 100, (median(cpu_ratio) - 1) * 100, g.pacer.budget() * 100);
   return 0;
 }
 
@@ -442,6 +457,7 @@ int run_view(const ViewArgs& a) {
   Window window(w, h, true);
   Gui g(session);
   g.window = window.w;
+  g.pacer.set_budget(a.redraw_budget);
   g.display.init();
   if (a.bench > 0) return run_bench(g, a.bench);
   if (script) {

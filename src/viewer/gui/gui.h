@@ -32,8 +32,8 @@ struct Gui {
   double last_flip_time = -1e9;
   bool paused = false;
   UiCost cost;
-  double last_draw = 0;  // when the window was last drawn (s)
-  int settle = 0;        // frames still to draw after input
+  DrawPacer pacer;  // when to redraw (display.h)
+  long long shown_reference_serial = 0;  // the background reference the metrics were computed against
   ViewState shown_view;      // what the texture shows, to tell when to redraw it
   OutputOptions shown_output;
   float shown_scale = 0;

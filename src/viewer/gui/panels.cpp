@@ -89,8 +89,10 @@ void readouts(Gui& g) {
   ImGui::Text("%s  %dx%d (scale %g)", o.integrator.c_str(), r.width, r.height, g.session.scale());
   ImGui::Text("%.1f ms/frame  %.2f fps  (last %.1f ms)", g.history.mean_ms(), g.history.fps(), r.ms);
   ImGui::Text("frames accumulated %d  (%d spp)  frame %d", r.accumulated, r.accumulated * o.render.spp, r.frame);
-  if (g.session.has_reference() && !g.session.reference()) {
+  if (g.session.has_reference_file() && !g.session.reference()) {
     ImGui::TextUnformatted("reference: not the film's size (no metrics)");
+  } else if (g.session.has_reference() && !g.session.reference()) {
+    ImGui::TextUnformatted("reference: rendering the first pass");
   } else if (g.session.reference()) {
     ImGui::Text("relMSE %s   FLIP %s", g.rel_mse >= 0 ? fmt::format("{:.5f}", g.rel_mse).c_str() : "-",
                 g.flip >= 0 ? fmt::format("{:.4f}", g.flip).c_str() : "-");
@@ -105,6 +107,30 @@ void readouts(Gui& g) {
   if (ImGui::TreeNodeEx("stages", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (const auto& [name, ms] : r.stages.ms) ImGui::Text("%-20s %8.2f ms", name.c_str(), ms);
     ImGui::TreePop();
+  }
+}
+
+// The background reference (session.h): a pt image of the view rendered beside the frames.
+void reference_controls(Gui& g) {
+  if (g.session.has_reference_file()) {
+    ImGui::Text("reference: %s", g.session.args().reference.c_str());
+    return;
+  }
+  ReferenceSettings r = g.session.reference_settings();
+  bool changed = ImGui::Checkbox("background reference", &r.on);
+  help_tooltip("render a path-traced reference of this view beside the frames (pt, its own seed; restarts when the "
+               "camera, film, path length or scene frame changes, not when ReSTIR's options do)");
+  ImGui::SameLine();
+  ImGui::Text("%d spp", g.session.reference_spp());
+  float share = r.share * 100;
+  if (ImGui::SliderFloat("reference share %", &share, 5, 95, "%.0f")) r.share = share / 100, changed = true;
+  help_tooltip("its share of the render time while frames render (all of it while paused)");
+  if (ImGui::InputInt("reference target spp", &r.target_spp, 256, 4096, ImGuiInputTextFlags_EnterReturnsTrue)) changed = true;
+  if (!changed) return;
+  try {
+    g.session.set_reference(r);
+  } catch (const std::exception& e) {
+    g.say(e.what(), true);
   }
 }
 
@@ -129,6 +155,13 @@ void view_controls(Gui& g) {
   int si = g.session.scale() == 1 ? 0 : g.session.scale() == 0.5f ? 1 : 2;
   if (ImGui::Combo("render scale", &si, scale_names, 3)) g.session.set_scale(scales[si]);
   help_tooltip("render at this fraction of film.width x film.height");
+  float budget = float(g.pacer.budget() * 100);
+  if (ImGui::SliderFloat("redraw budget %", &budget, 0.1f, 100, "%.1f", ImGuiSliderFlags_Logarithmic)) g.pacer.set_budget(budget / 100);
+  help_tooltip("share of wall time the window may spend redrawing while nothing moves: each redraw takes CPU from the "
+               "renderer (software OpenGL: 10-20 ms); 100 = show every frame. Input always redraws.");
+  ImGui::SameLine();
+  ImGui::Text("%.1f ms", g.pacer.cost_s() * 1000);
+  reference_controls(g);
 }
 
 void camera_controls(Gui& g) {

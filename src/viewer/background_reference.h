@@ -1,0 +1,58 @@
+// The viewer's background reference (issue 10): a progressive path-traced image of what the
+// viewer shows, rendered beside it so that relMSE, FLIP, the error map and the A/B split work
+// without a --reference file. It is pt with reference_options() of the viewer's options (the
+// integral the viewer's unbiased integrators converge to: restir-di's is direct light), with the
+// scene frozen at the viewer's animation frame, seen through the viewer's camera, one sample per
+// pixel per pass, and a seed of its own: its noise is independent of the frames it is compared
+// with (a correlated reference would make the error look smaller than it is). Owned and run by
+// the session's worker thread.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "integrators/options.h"
+#include "integrators/render.h"
+#include "scene/scene.h"
+#include "viewer/display.h"
+
+namespace rl::viewer {
+
+class BackgroundReference {
+ public:
+  // `defaults`: the options the scene file implies (apply_scene_hints), the base of the reference's
+  // options. The scene must outlive this object.
+  BackgroundReference(const Scene& scene, Options defaults);
+  ~BackgroundReference();
+
+  // Aims the reference at the view the viewer renders with `viewer` options through `camera` at
+  // animation frame `frame`. A change of anything the reference depends on (film, path length,
+  // the integrator's kind of integral, seed, camera, the animated scene's pose) restarts it and
+  // returns true; ReSTIR's own options, the tone mapper and the thread count do not.
+  bool aim(const Options& viewer, const CameraKey& camera, int frame);
+  // Renders one more sample per pixel into the running mean and returns its wall time (ms).
+  // `progress` as FrameRenderer::render_frame (it may throw to cut the pass; the mean is unchanged).
+  double pass(const std::function<void(int, int)>& progress = {});
+
+  int spp() const { return mean_.count(); }
+  const Image& mean() const { return mean_.mean(); }
+  const Options& options() const { return options_; }
+
+ private:
+  const Scene& rest_;
+  Options defaults_;
+  int last_key_frame_ = 0;  // animated scenes hold their pose after their last key
+  std::string key_;
+  Options options_;
+  CameraKey camera_;
+  int pose_ = -1;                  // the animation frame the reference shows (-1: a static scene)
+  std::unique_ptr<Scene> frozen_;  // the animated scene at the reference's frame (null: static)
+  std::unique_ptr<FrameRenderer> renderer_;
+  Accumulation mean_;
+};
+
+// The reference's seed for a viewer seed: a stream of its own (a fixed offset, so that the
+// viewer's seed still selects the reference's noise deterministically).
+uint64_t reference_seed(uint64_t viewer_seed);
+
+}  // namespace rl::viewer
