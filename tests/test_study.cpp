@@ -384,6 +384,57 @@ TEST_SUITE("study") {
     CHECK(error_of(study_json(R"("plots": [{"x": "scene", "y": "fps", "series": "integrator+pt.shift"}])")) == "");
   }
 
+  TEST_CASE("legends: short labels of the options each integrator reads, the baseline marked; categories side by side") {
+    std::vector<Row> rows;
+    auto add = [&](const std::string& integrator, const std::string& shift, const std::string& spp, double err) {
+      Row r;
+      r.scene = "scenes/teapot.pbrt";
+      r.config = integrator + shift + spp;
+      r.options = {{"integrator", integrator}, {"render.spp", spp}, {"pt.shift", shift}, {"pt.direct", "path"}};
+      r.metrics["relmse"] = err;
+      rows.push_back(r);
+    };
+    add("restir-pt", "reconnection", "1", 1);
+    add("restir-pt", "hybrid", "1", 2);
+    add("pt", "hybrid", "1", 3);  // pt does not read pt.shift
+    PlotSpec p;
+    p.x = "scene";
+    p.y = "relmse";
+    p.series = "integrator+pt.shift";
+    const std::vector<std::pair<std::string, std::string>> baseline = {{"integrator", "pt"}};
+    auto s = aggregate(p, rows, nullptr, baseline);
+    REQUIRE(s.size() == 3);
+    CHECK(s[0].label == "reconnection");
+    CHECK(s[1].label == "hybrid");
+    CHECK(s[2].label == "pt (baseline)");
+    CHECK(series_label("integrator+pt.shift", rows[2]) == "pt");
+    CHECK(series_label("integrator+pt.shift", rows[1]) == "restir-pt hybrid");
+    CHECK(series_label("scene", rows[0]) == "teapot");
+    // Three series around category 0, in order, none on top of another; the tick is the scene's name.
+    CHECK(s[0].points[0].xpos < s[1].points[0].xpos);
+    CHECK(s[1].points[0].xpos < s[2].points[0].xpos);
+    CHECK(std::fabs(s[1].points[0].xpos) < 1e-12);
+    CHECK(s[2].points[0].xpos < 0.5);
+    CHECK(s[0].points[0].x == "teapot");
+    // Shortening stops where two labels would become one.
+    rows.clear();
+    add("pt", "hybrid", "2", 1);
+    add("restir-pt", "hybrid", "2", 1);
+    p.series = "integrator+render.spp";
+    s = aggregate(p, rows);
+    REQUIRE(s.size() == 2);
+    CHECK(s[0].label == "pt 2");
+    CHECK(s[1].label == "restir-pt 2");
+    CHECK(axis_label("ms_median") == "frame time (ms, median over frames)");
+    CHECK(axis_label("di.spatial_radius") == "di.spatial_radius");
+    // "baseline" is parsed like "where" (values as the rows print them) and checked.
+    const Study st = parse_study(study_json(R"("baseline": {"integrator": "pt", "render.spp": 1.0})"), "/tmp/b.json", false);
+    REQUIRE(st.baseline.size() == 2);
+    CHECK(st.baseline[1].second == "1");
+    CHECK(error_of(study_json(R"("baseline": {"render.sp": 1})")).find("render.sp") != std::string::npos);
+    CHECK(error_of(study_json(R"("baseline": [1])")).find("baseline") != std::string::npos);
+  }
+
   TEST_CASE("noise: per-pixel standard deviation across seeds") {
     Image a(4, 2, Rgb(1.0f)), b(4, 2, Rgb(3.0f));
     CHECK(noise_across({a, b}) == doctest::Approx(std::sqrt(2.0)));
@@ -404,6 +455,12 @@ TEST_SUITE("study") {
     REQUIRE(run_study(a) == 0);
     Study s = load_study(a.study, false);
     check_outputs(a.out, s);
+    {
+      std::ifstream report(d / "out/report.html");
+      std::stringstream html;
+      html << report.rdbuf();
+      CHECK(html.str().find("Smoke test") == std::string::npos);  // a full-size run has no banner
+    }
     CsvTable t = read_csv(d / "out/results.csv");
     // Noise is filled in and equal for the seeds of one configuration; relMSE is positive.
     for (const auto& r : t.rows) {
@@ -523,6 +580,15 @@ TEST_SUITE("slow") {
       Study s = load_study(find_study(name), true);
       CHECK(!s.plots.empty());
       check_outputs(d / name, s);
+      // A --quick report says on its face, and on every plot, that it is a smoke test.
+      std::ifstream report(d / name / "report.html");
+      std::stringstream html;
+      html << report.rdbuf();
+      CHECK(html.str().find("Smoke test") != std::string::npos);
+      std::ifstream gp(d / name / "plots" / (s.plots.front().name + ".gp"));
+      std::stringstream script;
+      script << gp.rdbuf();
+      CHECK(script.str().find("--quick smoke test: not evidence") != std::string::npos);
     }
     fs::remove_all(d);
   }

@@ -85,6 +85,19 @@ TEST_SUITE("study_stale") {
     CHECK(r.output.find("older inputs") != std::string::npos);
     CHECK(slurp(d / "out/report.html").find("1 stored row(s) were stale") != std::string::npos);
     CHECK(slurp(d / "out/results.csv") != first);
+    // Made stale again, then --merge (which renders nothing): the old row stays in the store (not
+    // in the report: it is of older inputs), the merge says the job is missing, and a run
+    // recomputes and replaces it.
+    const std::string second = slurp(d / "out/results.csv");
+    std::ofstream(d / "light.pbrt") << emitter(2);
+    auto merged = test::run_restir("study " + a.study + " --out " + a.out + " --merge");
+    CHECK(merged.status == 1);
+    CHECK(merged.output.find("1 of 1 job(s) missing") != std::string::npos);
+    CHECK(slurp(d / "out/results.csv") == second);
+    auto rerun = test::run_restir("study " + a.study + " --out " + a.out);
+    CHECK(rerun.status == 0);
+    CHECK(rerun.output.find("older inputs") != std::string::npos);
+    CHECK(slurp(d / "out/results.csv") != second);
     // The stale row is gone from the store: a third run has nothing stale and nothing to run.
     auto again = test::run_restir("study " + a.study + " --out " + a.out);
     CHECK(again.output.find("0 to run") != std::string::npos);

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -22,9 +24,14 @@ bool parse_number(const std::string& s, double& v) {
   return end && *end == 0;
 }
 
+// A gnuplot double-quoted string; a newline becomes gnuplot's \n (a line break in a title).
 std::string gp_quote(const std::string& s) {
   std::string o = "\"";
   for (char c : s) {
+    if (c == '\n') {
+      o += "\\n";
+      continue;
+    }
     if (c == '"' || c == '\\') o += '\\';
     o += c;
   }
@@ -39,20 +46,44 @@ std::string shell_quote(const std::string& s) {
 }  // namespace
 
 namespace {
-bool selected(const PlotSpec& p, const Row& r) {
-  return std::all_of(p.where.begin(), p.where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
+bool selected(const std::vector<std::pair<std::string, std::string>>& where, const Row& r) {
+  return std::all_of(where.begin(), where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
+}
+bool selected(const PlotSpec& p, const Row& r) { return selected(p.where, r); }
+
+std::vector<std::string> split_plus(const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  std::string k;
+  while (std::getline(ss, k, '+')) parts.push_back(k);
+  return parts;
+}
+
+// Whether the row's integrator reads option `key` (its prefix names who reads it).
+bool relevant(const std::string& key, const Row& r) {
+  const std::string in = r.option("integrator");
+  auto prefix = [&](const char* p) { return key.rfind(p, 0) == 0; };
+  if (in.empty()) return true;  // rows without an integrator column (tests, hand-made rows)
+  if (prefix("pt.")) return in == "restir-pt";
+  if (prefix("di.")) return in == "restir-di" || (in == "restir-pt" && r.option("pt.direct") == "restir-di");
+  if (prefix("gi.")) return in == "restir-gi";
+  if (prefix("ssr.")) return in == "ssr";
+  if (prefix("path.")) return in != "restir-di";
+  return true;
 }
 
 // x is a metric: one point per configuration (and scene) of each series, at the means over its
 // seeds, the points of a series in order of x.
-std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<Row>& rows) {
+std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<Row>& rows,
+                                           const std::vector<std::pair<std::string, std::string>>& baseline) {
   std::vector<std::string> series_order;
+  std::map<std::string, std::string> labels;
   std::map<std::string, std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>> groups;
   for (const auto& r : rows) {
     const double x = r.metric(p.x), y = r.metric(p.y);
     if (!selected(p, r) || !std::isfinite(x) || !std::isfinite(y)) continue;
     const std::string sv = p.series.empty() ? "" : r.option(p.series);
-    if (!groups.count(sv)) series_order.push_back(sv);
+    if (!groups.count(sv)) series_order.push_back(sv), labels[sv] = p.series.empty() ? axis_label(p.y) : series_label(p.series, r, baseline);
     auto& g = groups[sv][r.config + "|" + r.scene];
     g.first.push_back(x);
     g.second.push_back(y);
@@ -60,7 +91,7 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
   std::vector<PlotSeries> out;
   for (const auto& sv : series_order) {
     PlotSeries s;
-    s.label = p.series.empty() ? p.y : p.series + " = " + sv;
+    s.label = labels[sv];
     for (const auto& [config, xy] : groups[sv]) {
       PlotSeries::Point pt;
       pt.xpos = stat_of(xy.first).mean;
@@ -73,15 +104,70 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
   }
   return out;
 }
+
+std::string scene_name(const std::string& scene) {
+  const fs::path p(scene);
+  // The shared scenes are folders of scene-v4.pbrt: name them by the folder.
+  return p.stem() == "scene-v4" || p.stem() == "scene" ? p.parent_path().filename().string() : p.stem().string();
+}
 }  // namespace
 
-std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& rows, bool* numeric_x) {
+std::string series_label(const std::string& series_key, const Row& r,
+                         const std::vector<std::pair<std::string, std::string>>& baseline) {
+  std::string label;
+  for (const auto& k : split_plus(series_key)) {
+    if (!relevant(k, r)) continue;
+    const std::string v = k == "scene" ? scene_name(r.scene) : r.option(k);
+    label += (label.empty() ? "" : " ") + v;
+  }
+  if (!baseline.empty() && selected(baseline, r)) label += " (baseline)";
+  return label;
+}
+
+void shorten_labels(std::vector<PlotSeries>& series, const std::string& series_key) {
+  const auto keys = split_plus(series_key);
+  if (keys.size() < 2 || keys.front() != "integrator") return;
+  std::vector<std::string> shorter;
+  for (const auto& s : series) {
+    const size_t sp = s.label.find(' ');
+    const bool more = sp != std::string::npos && s.label.compare(sp, 11, " (baseline)") != 0;
+    shorter.push_back(more ? s.label.substr(sp + 1) : s.label);
+  }
+  std::set<std::string> distinct(shorter.begin(), shorter.end());
+  if (distinct.size() != shorter.size()) return;
+  for (size_t i = 0; i < series.size(); ++i) series[i].label = shorter[i];
+}
+
+std::string axis_label(const std::string& name) {
+  static const std::map<std::string, std::string> labels = {
+      {"ms_median", "frame time (ms, median over frames)"},
+      {"ms_iqr", "frame time spread (ms, interquartile range over frames)"},
+      {"fps", "frames per second (1000 / median ms)"},
+      {"mse", "MSE of the last frame"},
+      {"relmse", "relMSE of the last frame"},
+      {"flip", "mean FLIP of the last frame"},
+      {"noise", "noise (per-pixel std. dev. across seeds, mean)"},
+      {"convergence", "relMSE of the running mean of frames"},
+      {"relmse_reflective", "relMSE over the reflective pixels"},
+      {"flip_reflective", "mean FLIP over the reflective pixels"},
+      {"scene", "scene"},
+      {"frame", "frame"},
+      {"seed", "seed"}};
+  auto it = labels.find(name);
+  return it == labels.end() ? name : it->second;
+}
+
+std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& rows, bool* numeric_x,
+                                  const std::vector<std::pair<std::string, std::string>>& baseline) {
   if (p.x_metric) {
     if (numeric_x) *numeric_x = true;
-    return aggregate_metric_x(p, rows);
+    auto out = aggregate_metric_x(p, rows, baseline);
+    shorten_labels(out, p.series);
+    return out;
   }
   // Group in first-seen order of series and x.
   std::vector<std::string> series_order, x_order;
+  std::map<std::string, std::string> labels;
   std::map<std::string, std::map<std::string, std::vector<double>>> groups;
   for (const auto& r : rows) {
     if (!selected(p, r)) continue;
@@ -89,7 +175,7 @@ std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& row
     if (!std::isfinite(y)) continue;
     std::string sv = p.series.empty() ? "" : r.option(p.series);
     std::string xv = r.option(p.x);
-    if (!groups.count(sv)) series_order.push_back(sv);
+    if (!groups.count(sv)) series_order.push_back(sv), labels[sv] = p.series.empty() ? axis_label(p.y) : series_label(p.series, r, baseline);
     if (std::find(x_order.begin(), x_order.end(), xv) == x_order.end()) x_order.push_back(xv);
     groups[sv][xv].push_back(y);
   }
@@ -104,24 +190,48 @@ std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& row
     });
   if (numeric_x) *numeric_x = numeric;
   std::vector<PlotSeries> out;
-  for (const auto& sv : series_order) {
+  // Categories: series side by side around each category, 0.6 of the gap between categories in all.
+  const double n = double(series_order.size()), width = n > 1 ? std::min(0.6 / n, 0.15) : 0;
+  for (size_t si = 0; si < series_order.size(); ++si) {
+    const auto& sv = series_order[si];
     PlotSeries s;
-    s.label = p.series.empty() ? p.y : p.series + " = " + sv;
+    s.label = labels[sv];
     for (size_t i = 0; i < x_order.size(); ++i) {
       auto it = groups[sv].find(x_order[i]);
       if (it == groups[sv].end()) continue;
       PlotSeries::Point pt;
-      pt.x = x_order[i];
-      pt.xpos = numeric ? std::strtod(pt.x.c_str(), nullptr) : double(i);
+      pt.x = p.x == "scene" ? scene_name(x_order[i]) : x_order[i];
+      pt.xpos = numeric ? std::strtod(pt.x.c_str(), nullptr) : double(i) + (double(si) - (n - 1) / 2) * width;
       pt.y = stat_of(it->second);
       s.points.push_back(pt);
     }
     out.push_back(std::move(s));
   }
+  shorten_labels(out, p.series);
   return out;
 }
 
-std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir) {
+namespace {
+// Long titles on two lines (gnuplot cuts a long one at the image's edges).
+std::string wrap_title(const std::string& t) {
+  if (t.size() <= 90) return t;
+  size_t cut = t.rfind(' ', t.size() / 2 + 10);
+  if (cut == std::string::npos || cut < 20) cut = t.find(' ', t.size() / 2);
+  return cut == std::string::npos ? t : t.substr(0, cut) + "\n" + t.substr(cut + 1);
+}
+
+// Category names at their integer positions (the series sit at offsets around them).
+std::string category_tics(const std::vector<PlotSeries>& series) {
+  std::map<long, std::string> names;
+  for (const auto& s : series)
+    for (const auto& pt : s.points) names.emplace(std::lround(pt.xpos), pt.x);
+  std::string tics = "set xtics (";
+  for (const auto& [i, name] : names) tics += fmt::format("{}{} {}", i == names.begin()->first ? "" : ", ", gp_quote(name), i);
+  return tics + ")" + (names.size() > 4 ? " rotate by -30" : "") + "\nset xrange [-0.6:" + std::to_string(names.empty() ? 1 : names.rbegin()->first) + ".6]\n";
+}
+}  // namespace
+
+std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir, bool quick) {
   std::vector<PlotResult> results;
   fs::create_directories(plot_dir);
   const bool have_gnuplot = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
@@ -130,7 +240,7 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
     pr.name = p.name;
     pr.title = p.title;
     bool numeric = true;
-    auto series = aggregate(p, rows, &numeric);
+    auto series = aggregate(p, rows, &numeric, s.baseline);
     // Data: one block per series (gnuplot "index"), tab separated.
     std::string dat = fmt::format("# study {}: {} over {}; mean and standard error over the pooled rows\n", s.name, p.y, p.x);
     dat += "# x\tlabel\tmean\tstderr\tn\n";
@@ -145,22 +255,24 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
     }
     write_text_file_atomic((fs::path(plot_dir) / (p.name + ".dat")).string(), dat);
 
+    // A --quick run says so on every plot: its numbers are a smoke test, not evidence.
+    const std::string title = (quick ? "[--quick smoke test: not evidence] " : "") + wrap_title(p.title);
     std::string gp = fmt::format(
         "# Drawn by `restir study` ({}); edit and re-run here with: gnuplot {}.gp\n"
         "set encoding utf8\nset datafile separator \"\\t\"\n"
         "set title {}\nset xlabel {}\nset ylabel {}\n"
         "set grid\nset key outside right top\nset bars small\nset offsets graph 0.04, graph 0.04, graph 0.02, graph 0.02\n",
-        s.name, p.name, gp_quote(p.title), gp_quote(p.x_metric ? p.x + " (mean over seeds)" : p.x), gp_quote(p.y + " (mean ± standard error)"));
+        s.name, p.name, gp_quote(title), gp_quote(axis_label(p.x) + (p.x_metric ? ", mean over seeds" : "")),
+        gp_quote(axis_label(p.y) + " (mean ± s.e. over seeds)"));
     if (p.logx) gp += "set logscale x\n";
     if (p.logy) gp += "set logscale y\n";
-    if (!numeric) gp += "set xtics rotate by -30\n";
+    if (!numeric) gp += category_tics(series);
     std::string plot_cmd = "plot ";
     for (size_t i = 0; i < series.size(); ++i) {
       if (i) plot_cmd += ", \\\n     ";
-      plot_cmd += fmt::format("{} index {} using 1:3:4{} with {} lw 2 pt 7 title {}",
-                              i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i, numeric ? "" : ":xticlabels(2)",
-                              numeric ? "yerrorlines" : "yerrorbars",
-                              gp_quote(series[i].label));
+      plot_cmd += fmt::format("{} index {} using 1:3:4 with {} lw 2 pt 7 title {}",
+                              i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i,
+                              numeric ? "yerrorlines" : "yerrorbars", gp_quote(series[i].label));
     }
     if (series.empty() || !any) plot_cmd = "set label 1 \"no data\" at graph 0.5, graph 0.5 center\nplot [0:1][0:1] NaN notitle";
     gp += fmt::format(

@@ -28,8 +28,24 @@ struct PlotSeries {
   };
   std::vector<Point> points;
 };
-std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& rows, bool* numeric_x = nullptr);
+// Series are labelled by series_label (short, the baseline marked); on a categorical x each series
+// sits at a small offset from the category (xpos = index + offset) so that none hides another.
+std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& rows, bool* numeric_x = nullptr,
+                                  const std::vector<std::pair<std::string, std::string>>& baseline = {});
 
-std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir);
+// A series' legend text: the values of the series keys ("a+b") the row's integrator reads (pt.*
+// only for restir-pt, di.* for restir-di and restir-pt with pt.direct=restir-di, gi.* for
+// restir-gi, ssr.* for ssr, path.* for all but restir-di), joined by spaces, plus " (baseline)"
+// when the row matches `baseline`. A scene is named by its file stem.
+std::string series_label(const std::string& series_key, const Row& r,
+                         const std::vector<std::pair<std::string, std::string>>& baseline = {});
+// Drops the integrator's name from labels that say more than it, when the labels stay distinct
+// ("restir-pt hybrid", "pt" -> "hybrid", "pt").
+void shorten_labels(std::vector<PlotSeries>& series, const std::string& series_key);
+// Axis text for a metric or key: what it is and its unit ("frame time (ms, median over frames)").
+std::string axis_label(const std::string& name);
+
+// quick: the study ran with --quick; every plot's title says it is a smoke test.
+std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir, bool quick = false);
 
 }  // namespace rl::study

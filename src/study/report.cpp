@@ -2,6 +2,8 @@
 
 #include <sys/utsname.h>
 
+#include <algorithm>
+#include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +84,69 @@ std::string build_description() {
                      flip_available() ? "built in" : "not built (relative error maps instead)");
 }
 
+namespace {
+bool matches(const std::vector<std::pair<std::string, std::string>>& where, const Row& r) {
+  return std::all_of(where.begin(), where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
+}
+
+// Lower is better for every metric column but fps.
+bool better(const std::string& col, double a, double b) { return col == "fps" ? a > b : a < b; }
+
+// One row per (scene, configuration): each metric's mean ± standard error over seeds at the last
+// frame; the best of each scene in bold; with a study "baseline", each metric relative to the
+// scene's first baseline configuration.
+std::string configuration_table(const Study& s, const std::vector<Row>& rows, const std::vector<ReportConfig>& configs) {
+  const auto cols = metric_columns(s);
+  const bool rel = !s.baseline.empty();
+  std::map<std::string, std::vector<const Row*>> by_config;
+  for (const auto& r : rows)
+    if (r.frame == s.frames - 1) by_config[r.config].push_back(&r);
+  std::map<std::string, std::map<std::string, Stat>> stats;  // config -> column -> stat
+  std::map<std::string, std::string> baseline_of;             // scene -> its baseline configuration
+  std::map<std::string, std::map<std::string, double>> best;  // scene -> column -> best mean
+  for (const auto& c : configs) {
+    const auto& rs = by_config[c.config];
+    if (rel && !rs.empty() && matches(s.baseline, *rs.front()) && !baseline_of.count(c.scene)) baseline_of[c.scene] = c.config;
+    for (const auto& col : cols) {
+      std::vector<double> v;
+      for (const Row* r : rs) v.push_back(r->metric(col));
+      const Stat st = stat_of(v);
+      stats[c.config][col] = st;
+      if (st.n == 0 || !std::isfinite(st.mean)) continue;
+      auto [it, fresh] = best[c.scene].emplace(col, st.mean);
+      if (!fresh && better(col, st.mean, it->second)) it->second = st.mean;
+    }
+  }
+  std::string h = "<h2>Configurations</h2>\n<p>Mean ± standard error over seeds at the last frame; the best value of each "
+                  "scene in bold";
+  if (rel) {
+    h += "; <i>÷ baseline</i>: the mean relative to the scene's baseline configuration (";
+    for (const auto& [k, v] : s.baseline) h += fmt::format("<code>{}={}</code> ", esc(k), esc(v));
+    h += "), below 1 = lower than the baseline";
+  }
+  h += ".</p>\n<table class=\"configurations\">\n<tr><th class=\"l\">scene</th><th class=\"l\">configuration</th>"
+       "<th class=\"l\">id</th><th>seeds</th>";
+  for (const auto& c : cols) h += "<th>" + esc(c) + "</th>" + (rel ? "<th>÷ baseline</th>" : "");
+  h += "</tr>\n";
+  for (const auto& c : configs) {
+    const bool is_base = rel && baseline_of.count(c.scene) && baseline_of[c.scene] == c.config;
+    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}{}</td><td class=\"l\"><code>{}</code></td><td>{}</td>",
+                     esc(c.scene), esc(values_text(c)), is_base ? " <b>(baseline)</b>" : "", c.config, by_config[c.config].size());
+    for (const auto& col : cols) {
+      const Stat& st = stats[c.config][col];
+      const bool top = st.n > 0 && std::isfinite(st.mean) && best[c.scene].count(col) && st.mean == best[c.scene][col];
+      h += std::string(top ? "<td class=\"best\">" : "<td>") + fmt_stat(st) + "</td>";
+      if (!rel) continue;
+      const Stat* b = baseline_of.count(c.scene) ? &stats[baseline_of[c.scene]][col] : nullptr;
+      const bool ok = b && b->n > 0 && st.n > 0 && b->mean != 0 && std::isfinite(b->mean) && std::isfinite(st.mean);
+      h += ok ? fmt::format("<td class=\"rel\">{:.3g}</td>", st.mean / b->mean) : std::string("<td class=\"rel\">–</td>");
+    }
+    h += "</tr>\n";
+  }
+  return h + "</table>\n";
+}
+}  // namespace
+
 void write_report(const std::string& out_dir, const Study& s, const std::vector<Row>& rows,
                   const std::vector<ReportConfig>& configs, const std::vector<PlotResult>& plots, const ReportInfo& info) {
   const fs::path out(out_dir);
@@ -92,11 +157,18 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
        "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}th{background:#eee}td.l,th.l{text-align:left}"
        ".grid{display:flex;flex-wrap:wrap;gap:10px}.cell{font-size:80%;max-width:300px}"
        ".cell img{width:280px;image-rendering:pixelated;display:block;border:1px solid #ccc}"
-       ".plot img{max-width:900px;width:100%}.note{background:#fff7d6;padding:6px}</style></head><body>\n";
+       ".plot img{max-width:900px;width:100%}.note{background:#fff7d6;padding:6px}"
+       ".banner{background:#ffd7d7;border:2px solid #c00;padding:8px;font-weight:bold}td.best{font-weight:bold;background:#e3f5e3}"
+       "td.rel{color:#555}</style></head><body>\n";
   std::time_t now = std::time(nullptr);
   char when[64];
   std::strftime(when, sizeof(when), "%Y-%m-%d %H:%M:%S", std::localtime(&now));
-  h += fmt::format("<h1>Study <code>{}</code>{}</h1>\n<p>{}</p>\n", esc(s.name), info.quick ? " (quick)" : "", esc(s.description));
+  h += fmt::format("<h1>Study <code>{}</code>{}</h1>\n", esc(s.name), info.quick ? " (quick)" : "");
+  if (info.quick)
+    h += "<p class=\"banner\">Smoke test (<code>--quick</code>): tiny images, few seeds and frames, a low-sample reference. "
+         "It shows that the study runs, not what it finds: its numbers are not evidence. Run the study without "
+         "<code>--quick</code> for the figure.</p>\n";
+  h += fmt::format("<p>{}</p>\n", esc(s.description));
   h += "<h2>Run</h2><ul>\n";
   h += fmt::format("<li>study file: <code>{}</code>; written {}</li>\n", esc(s.file), when);
   h += fmt::format("<li>{} scene(s) × {} configuration(s) × {} seed(s), {} frame(s) each; {} of {} job(s) run now (the rest "
@@ -132,27 +204,7 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
                      esc(p.name));
   }
 
-  // Configuration table: one row per (scene, configuration); metrics over seeds at the last frame.
-  const auto cols = metric_columns(s);
-  h += "<h2>Configurations</h2>\n<table class=\"configurations\">\n<tr><th class=\"l\">scene</th><th class=\"l\">configuration</th>"
-       "<th class=\"l\">id</th><th>seeds</th>";
-  for (const auto& c : cols) h += "<th>" + esc(c) + "</th>";
-  h += "</tr>\n";
-  std::map<std::string, std::vector<const Row*>> by_config;
-  for (const auto& r : rows)
-    if (r.frame == s.frames - 1) by_config[r.config].push_back(&r);
-  for (const auto& c : configs) {
-    const auto& rs = by_config[c.config];
-    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\"><code>{}</code></td><td>{}</td>",
-                     esc(c.scene), esc(values_text(c)), c.config, rs.size());
-    for (const auto& col : cols) {
-      std::vector<double> v;
-      for (const Row* r : rs) v.push_back(r->metric(col));
-      h += "<td>" + fmt_stat(stat_of(v)) + "</td>";
-    }
-    h += "</tr>\n";
-  }
-  h += "</table>\n";
+  h += configuration_table(s, rows, configs);
   // Base options of the study (what every configuration shares).
   if (!s.base.empty()) {
     h += "<p>Base options:";

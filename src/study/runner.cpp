@@ -77,16 +77,20 @@ std::string inputs_hash(const Scene& scene, const std::string& path) {
   return hash_hex(text);
 }
 
+// What a row computes, without the inputs' contents: its scene as written, seed and options.
+std::string row_key(const std::string& scene, uint64_t seed, std::vector<std::pair<std::string, std::string>> opts) {
+  std::erase_if(opts, [](const auto& kv) { return kv.first == "render.threads"; });
+  std::string k = scene + "|" + std::to_string(seed);
+  for (const auto& [a, b] : opts) k += "|" + a + "=" + b;
+  return k;
+}
+
 // Ids of the stored rows for the same scene, seed and options as a current job but another id:
-// computed from inputs that have changed since. They are dropped once the study completes.
+// computed from inputs that have changed since. Each is dropped once a row of the current inputs
+// replaces it (never before: a --merge or a shard that recomputes nothing keeps the old data).
 std::set<std::string> stale_ids(const std::vector<Row>& stored, const std::vector<Job>& jobs,
                                 const std::vector<SceneData>& scenes) {
-  auto key = [](const std::string& scene, uint64_t seed, std::vector<std::pair<std::string, std::string>> opts) {
-    std::erase_if(opts, [](const auto& kv) { return kv.first == "render.threads"; });
-    std::string k = scene + "|" + std::to_string(seed);
-    for (const auto& [a, b] : opts) k += "|" + a + "=" + b;
-    return k;
-  };
+  const auto key = row_key;
   std::set<std::string> ids, current;
   for (const Job& j : jobs) {
     ids.insert(j.id);
@@ -405,7 +409,10 @@ int run_study(const StudyArgs& a) {
     seeds_of_config[j.config_id].push_back(j.id);
   }
   std::vector<Row> rows = union_rows(store.rows(), known);
-  std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0; });  // superseded by the recomputed rows
+  std::set<std::string> recomputed;  // what the rows of the current inputs compute
+  for (const Row& r : rows)
+    if (order.count(r.id)) recomputed.insert(row_key(r.scene, r.seed, r.options));
+  std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0 && recomputed.count(row_key(r.scene, r.seed, r.options)); });
   if (s.has_metric("noise")) {
     std::map<std::string, double> noise;
     for (const auto& [cfg, ids] : seeds_of_config) {
@@ -417,6 +424,7 @@ int run_study(const StudyArgs& a) {
       noise[cfg] = noise_across(imgs);
     }
     for (auto& r : rows) {
+      if (!order.count(r.id)) continue;  // a row of older inputs or another study version keeps its value
       auto it = noise.find(r.config);
       bool last = r.frame == s.frames - 1;
       r.metrics["noise"] = it != noise.end() && last ? it->second : kNone;
@@ -431,7 +439,7 @@ int run_study(const StudyArgs& a) {
   std::vector<Row> current;
   for (const auto& r : rows)
     if (order.count(r.id)) current.push_back(r);
-  std::vector<PlotResult> plots = write_plots(s, current, (out / "plots").string());
+  std::vector<PlotResult> plots = write_plots(s, current, (out / "plots").string(), a.quick);
   for (const auto& p : plots)
     if (!p.drawn) std::fprintf(stderr, "warning: plot %s not drawn: %s\n", p.name.c_str(), p.message.c_str());
   ReportInfo info;

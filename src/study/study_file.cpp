@@ -261,7 +261,7 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
     fail(path, std::string("invalid JSON: ") + e.what());
   }
   check_keys(j, {"name", "description", "base", "axes", "combine", "scenes", "seeds", "frames", "metrics", "reference",
-                 "plots", "quick"},
+                 "plots", "quick", "baseline"},
              path, "");
   Study s;
   s.file = path;
@@ -303,6 +303,13 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
     std::string p = resolve_path(sc, s.dir);
     if (!fs::exists(p)) fail(path, fmt::format("scene '{}' not found (relative to {} or the repository root)", sc, s.dir));
     s.scene_paths.push_back(p);
+  }
+  if (j.contains("baseline")) {
+    if (!j["baseline"].is_object() || j["baseline"].empty()) fail(path, "\"baseline\" must be an object of key: value");
+    for (const auto& [k, v] : j["baseline"].items()) {
+      check_plot_keys(k, "baseline", path);
+      s.baseline.emplace_back(k, where_value(k, v, "baseline", path));
+    }
   }
   // Plots.
   if (j.contains("plots")) {

@@ -53,6 +53,9 @@ struct Study {
   std::vector<std::string> metrics;  // requested: time, mse, relmse, flip, noise, convergence
   ReferenceSpec reference;
   std::vector<PlotSpec> plots;
+  // "baseline": {key: value, ...}: the configurations everything else is compared with (e.g. the
+  // path tracer); legends mark them and the report's table gives each metric relative to them.
+  std::vector<std::pair<std::string, std::string>> baseline;
 
   bool has_metric(const std::string& m) const;
   bool per_frame() const { return has_metric("convergence"); }  // one row per frame

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""The verdict of the equal-time study (studies/equal-time.json) from its results.csv, as the
+Markdown tables of docs/results/equal-time/RESULTS.md: each configuration's relMSE, FLIP and frame
+time with 95% confidence intervals over seeds, and each ReSTIR PT shift against the path tracer
+at equal time (relMSE x ms, whose expectation is constant for the path tracer since relMSE ~ 1/spp
+and ms ~ spp; and FLIP against the path tracer's FLIP interpolated at the same frame time), with
+bootstrap 95% intervals over seeds.
+    scripts/equal_time_verdict.py OUT/results.csv"""
+import csv
+import math
+import random
+import statistics as st
+import sys
+from collections import defaultdict
+
+T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26, 11: 2.20, 15: 2.13}
+
+
+def t975(dof):
+    return T975.get(dof, T975[max(k for k in T975 if k <= dof)] if dof > 1 else 12.71)
+
+
+def ci(v):
+    m = st.mean(v)
+    h = t975(len(v) - 1) * st.stdev(v) / math.sqrt(len(v)) if len(v) > 1 else float("nan")
+    return m, h
+
+
+def label(r):
+    return "pt %s spp" % r["render.spp"] if r["integrator"] == "pt" else r["pt.shift"]
+
+
+def pt_flip_at(pt, ms):
+    c = sorted((st.mean(x["ms"]), st.mean(x["flip"])) for x in pt.values())
+    k = 0
+    while k + 2 < len(c) and c[k + 1][0] < ms:
+        k += 1
+    t = (math.log(ms) - math.log(c[k][0])) / (math.log(c[k + 1][0]) - math.log(c[k][0]))
+    return c[k][1] + t * (c[k + 1][1] - c[k][1])
+
+
+def main(path):
+    rows = list(csv.DictReader(open(path)))
+    groups = defaultdict(lambda: defaultdict(list))
+    order = []
+    for r in rows:
+        k = label(r)
+        if k not in groups:
+            order.append(k)
+        g = groups[k]
+        g["ms"].append(float(r["ms_median"]))
+        g["relmse"].append(float(r["relmse"]))
+        g["flip"].append(float(r["flip"]))
+    pt = {k: g for k, g in groups.items() if k.startswith("pt ")}
+    print("| configuration | seeds | ms per frame | relMSE | FLIP | relMSE x ms (median) |")
+    print("|---|---|---|---|---|---|")
+    for k in order:
+        g = groups[k]
+        cells = ["%.3g ± %.2g" % ci(g[m]) for m in ("ms", "relmse", "flip")]
+        work = st.median([a * b for a, b in zip(g["relmse"], g["ms"])])
+        print("| %s | %d | %s | %.3g |" % (k, len(g["ms"]), " | ".join(cells), work))
+    rng = random.Random(1)
+
+    def pooled_work(sample):
+        return st.median([a * b for g in sample.values() for a, b in zip(g["relmse"], g["ms"])])
+
+    def resample(g):
+        idx = [rng.randrange(len(g["ms"])) for _ in g["ms"]]
+        return {m: [g[m][i] for i in idx] for m in ("ms", "relmse", "flip")}
+
+    print()
+    print("| shift | relMSE x ms ÷ path tracer's (95% CI) | FLIP ÷ path tracer's FLIP at the same ms (95% CI) |")
+    print("|---|---|---|")
+    for k in order:
+        if k in pt:
+            continue
+        g = groups[k]
+        work = st.median([a * b for a, b in zip(g["relmse"], g["ms"])]) / pooled_work(pt)
+        flip = st.mean(g["flip"]) / pt_flip_at(pt, st.mean(g["ms"]))
+        bw, bf = [], []
+        for _ in range(2000):
+            s = resample(g)
+            p = {kk: resample(v) for kk, v in pt.items()}
+            bw.append(st.median([a * b for a, b in zip(s["relmse"], s["ms"])]) / pooled_work(p))
+            bf.append(st.mean(s["flip"]) / pt_flip_at(p, st.mean(s["ms"])))
+        bw.sort()
+        bf.sort()
+        print("| %s | %.2f (%.2f – %.2f) | %.2f (%.2f – %.2f) |" % (k, work, bw[50], bw[1949], flip, bf[50], bf[1949]))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
