@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""The verdict of the equal-time study (studies/equal-time.json) from its results.csv, as the
-Markdown tables of docs/results/equal-time/RESULTS.md: each configuration's relMSE, FLIP and frame
+"""The verdict tables of a study of ReSTIR PT shifts against the path tracer (studies/equal-time.json,
+studies/shift-mapping.json) from its results.csv, as the Markdown tables of docs/results/*/RESULTS.md,
+one pair per scene: each configuration's relMSE, FLIP and frame
 time with 95% confidence intervals over seeds, and each ReSTIR PT shift against the path tracer
 at equal time (relMSE x ms, whose expectation is constant for the path tracer since relMSE ~ 1/spp
 and ms ~ spp; and FLIP against the path tracer's FLIP interpolated at the same frame time), with
 bootstrap 95% intervals over seeds.
-    scripts/equal_time_verdict.py OUT/results.csv"""
+    scripts/equal_time_verdict.py OUT/results.csv
+With one path tracer configuration (shift-mapping), FLIP at equal time is not computed."""
 import csv
 import math
 import random
@@ -39,8 +41,7 @@ def pt_flip_at(pt, ms):
     return c[k][1] + t * (c[k + 1][1] - c[k][1])
 
 
-def main(path):
-    rows = list(csv.DictReader(open(path)))
+def verdict(rows):
     groups = defaultdict(lambda: defaultdict(list))
     order = []
     for r in rows:
@@ -68,24 +69,41 @@ def main(path):
         idx = [rng.randrange(len(g["ms"])) for _ in g["ms"]]
         return {m: [g[m][i] for i in idx] for m in ("ms", "relmse", "flip")}
 
+    flip_too = len(pt) > 1
     print()
-    print("| shift | relMSE x ms ÷ path tracer's (95% CI) | FLIP ÷ path tracer's FLIP at the same ms (95% CI) |")
-    print("|---|---|---|")
+    print("| shift | relMSE x ms ÷ path tracer's (95% CI) |" + (" FLIP ÷ path tracer's FLIP at the same ms (95% CI) |" if flip_too else ""))
+    print("|---|---|" + ("---|" if flip_too else ""))
     for k in order:
         if k in pt:
             continue
         g = groups[k]
         work = st.median([a * b for a, b in zip(g["relmse"], g["ms"])]) / pooled_work(pt)
-        flip = st.mean(g["flip"]) / pt_flip_at(pt, st.mean(g["ms"]))
         bw, bf = [], []
         for _ in range(2000):
             s = resample(g)
             p = {kk: resample(v) for kk, v in pt.items()}
             bw.append(st.median([a * b for a, b in zip(s["relmse"], s["ms"])]) / pooled_work(p))
-            bf.append(st.mean(s["flip"]) / pt_flip_at(p, st.mean(s["ms"])))
+            if flip_too:
+                bf.append(st.mean(s["flip"]) / pt_flip_at(p, st.mean(s["ms"])))
         bw.sort()
-        bf.sort()
-        print("| %s | %.2f (%.2f – %.2f) | %.2f (%.2f – %.2f) |" % (k, work, bw[50], bw[1949], flip, bf[50], bf[1949]))
+        line = "| %s | %.2f (%.2f – %.2f) |" % (k, work, bw[50], bw[1949])
+        if flip_too:
+            bf.sort()
+            flip = st.mean(g["flip"]) / pt_flip_at(pt, st.mean(g["ms"]))
+            line += " %.2f (%.2f – %.2f) |" % (flip, bf[50], bf[1949])
+        print(line)
+
+
+def main(path):
+    rows = list(csv.DictReader(open(path)))
+    scenes = []
+    for r in rows:
+        if r["scene"] not in scenes:
+            scenes.append(r["scene"])
+    for i, scene in enumerate(scenes):
+        if len(scenes) > 1:
+            print(("\n" if i else "") + "### " + scene + "\n")
+        verdict([r for r in rows if r["scene"] == scene])
 
 
 if __name__ == "__main__":
