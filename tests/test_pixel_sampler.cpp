@@ -28,6 +28,38 @@ TEST_SUITE("pixel_sampler") {
     }
   }
 
+  TEST_CASE("patterns anti-alias over frames: at a few samples per frame the positions cycle, not repeat") {
+    Pcg32 rng(5);
+    // stratified at 1, 2, 4, 8 spp per frame: 16 / spp frames put one sample in each cell of a 4x4
+    // grid, and each frame's samples are spread (no two in one cell of the 2x2 grid when spp <= 4).
+    for (int spp : {1, 2, 4, 8}) {
+      std::set<int> cells;
+      for (int f = 0; f < 16 / spp; ++f) {
+        std::set<int> quadrants;
+        for (int s = 0; s < spp; ++s) {
+          const Vec2 u = pattern_sample(SamplePattern::stratified, uint64_t(f * spp + s), spp, 0, rng);
+          REQUIRE((u.x >= 0 && u.x < 1 && u.y >= 0 && u.y < 1));
+          cells.insert(int(u.y * 4) * 4 + int(u.x * 4));
+          quadrants.insert(int(u.y * 2) * 2 + int(u.x * 2));
+        }
+        if (spp <= 4) CHECK(int(quadrants.size()) == spp);
+      }
+      CHECK(cells.size() == 16);
+    }
+    // msaa at 1 spp per frame: the 8 Direct3D 8x positions over 8 frames, then again.
+    std::set<std::pair<float, float>> seen;
+    for (uint64_t f = 0; f < 8; ++f) {
+      const Vec2 p = pattern_sample(SamplePattern::msaa, f, 1, 0, rng);
+      CHECK(p.x == msaa_position(8, int(f)).x);
+      CHECK(p.y == msaa_position(8, int(f)).y);
+      seen.insert({p.x, p.y});
+    }
+    CHECK(seen.size() == 8);
+    CHECK(pattern_sample(SamplePattern::msaa, 8, 1, 0, rng).x == msaa_position(8, 0).x);
+    // 16 spp per frame: the 16x pattern every frame.
+    for (int i = 0; i < 16; ++i) CHECK(pattern_sample(SamplePattern::msaa, uint64_t(16 + i), 16, 0, rng).x == msaa_position(16, i).x);
+  }
+
   TEST_CASE("halton: low discrepancy — each of the 4x4 cells gets one of the first 16 points (base 2 x 3 strata)") {
     Pcg32 rng(1);
     // Halton (2,3) without rotation: the first 2^k points stratify x into 2^k intervals.

@@ -217,7 +217,10 @@ void visit_options(O& o, V& v) {
   v("render.backend", o.render.backend,
     "where the frame is computed: cpu (Embree, all cores) or cuda (an NVIDIA GPU: the scene, its BVH and every "
     "wavefront stage on the device; builds with -DRESTIR_CUDA=ON; pt only so far)");
-  v("render.sample_pattern", o.render.sample_pattern, "primary-ray positions inside a pixel");
+  v("render.sample_pattern", o.render.sample_pattern,
+    "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "
+    "stratified (4x4 strata cycled over frames at 1-8 spp), halton, msaa (Direct3D 8x positions cycled over frames; 16x "
+    "from 9 spp), random");
   v("render.light_selection", o.render.light_selection, "how a light is picked: by emitted power (alias table) or uniformly");
   v("render.camera_path", o.render.camera_path, "JSON camera keyframes overriding the scene camera (empty: none)");
   v("render.debug_view", o.render.debug_view,

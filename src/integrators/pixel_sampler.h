@@ -12,6 +12,12 @@ namespace rl {
 
 // Point in [0,1)^2 for sample `index` of a pixel (pattern_sample): `index` counts over the whole
 // sequence (frame * spp + sample), so patterns continue across frames; `spp` is samples per frame.
+// A pattern is anti-aliasing over frames (the thesis' sect. 4.1.2; a real-time renderer's camera
+// jitter, e.g. Falcor's DxSamplePattern and StratifiedSamplePattern): at a few samples per frame the
+// positions cycle over frames instead of repeating every frame. msaa cycles through the D3D 8x
+// pattern (16x from 9 spp per frame); stratified, at 1, 2, 4 or 8 spp per frame, through the 16
+// strata of a 4x4 grid in Bayer order (consecutive samples land far apart, so each frame's samples
+// are spread and 16 / spp frames cover every stratum once), else one grid per frame.
 // pixel_hash decorrelates pixels (Cranley-Patterson rotation for Halton).
 // filter_offset: offset from the pixel centre in pixels, drawn from the filter given u in [0,1)^2.
 // msaa_position: the Direct3D standard multisample positions (D3D11_STANDARD_MULTISAMPLE_PATTERN)
@@ -40,6 +46,14 @@ RESTIR_HD inline Vec2 pattern_sample(SamplePattern pattern, uint64_t index, int 
     case SamplePattern::random:
       return rng.next_2d();
     case SamplePattern::stratified: {
+      if (16 % spp == 0) {
+        // The 4x4 grid over the sequence: rank r = index mod 16 takes the cell whose 4x4 Bayer
+        // matrix entry is r (ranks 0-3 fall in the four quadrants, 0-7 in every other column ...).
+        const unsigned char cell_of_rank[16] = {0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12};
+        const int cell = cell_of_rank[index % 16u];
+        Vec2 j = rng.next_2d();
+        return {(float(cell % 4) + j.x) / 4.0f, (float(cell / 4) + j.y) / 4.0f};
+      }
       // Jittered grid of nx x ny strata per frame; sample s of a frame takes stratum s.
       int nx = int(std::ceil(std::sqrt(float(spp))));
       int ny = (spp + nx - 1) / nx;
@@ -56,8 +70,10 @@ RESTIR_HD inline Vec2 pattern_sample(SamplePattern pattern, uint64_t index, int 
       y -= std::floor(y);
       return {std::min(x, 0x1.fffffep-1f), std::min(y, 0x1.fffffep-1f)};
     }
-    case SamplePattern::msaa:
-      return msaa_position(msaa_pattern_size(spp), int(index % 16u));
+    case SamplePattern::msaa: {
+      const int n = msaa_pattern_size(spp < 8 ? 8 : spp);
+      return msaa_position(n, int(index % uint64_t(n)));
+    }
   }
   return {0.5f, 0.5f};
 }
