@@ -40,7 +40,7 @@ def main(argv):
             order.append(k)
         groups[k].append(r)
     metrics = [m for m in metrics if m in rows[0]]
-    print("| scene | " + " | ".join(keys) + " | seeds | " + " | ".join(metrics) + " |")
+    print("| scene | " + "".join(k + " | " for k in keys) + "seeds | " + " | ".join(metrics) + " |")
     print("|---" * (len(keys) + 2 + len(metrics)) + "|")
     for k in order:
         g = groups[k]
