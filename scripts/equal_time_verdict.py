@@ -15,11 +15,7 @@ import statistics as st
 import sys
 from collections import defaultdict
 
-T975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26, 11: 2.20, 15: 2.13}
-
-
-def t975(dof):
-    return T975.get(dof, T975[max(k for k in T975 if k <= dof)] if dof > 1 else 12.71)
+from study_summary import t975  # this folder
 
 
 def ci(v):

@@ -9,7 +9,12 @@ import statistics as st
 import sys
 from collections import defaultdict
 
+# Two-sided 95% quantiles of Student's t for 1 ... 15 degrees of freedom (the last one beyond).
 T975 = [12.71, 4.30, 3.18, 2.78, 2.57, 2.45, 2.36, 2.31, 2.26, 2.23, 2.20, 2.18, 2.16, 2.14, 2.13]
+
+
+def t975(dof):
+    return T975[min(max(dof, 1), len(T975)) - 1]
 
 
 def cell(v):
@@ -18,8 +23,7 @@ def cell(v):
         return "–"
     if len(v) < 2 or st.stdev(v) == 0:
         return "%.4g" % st.mean(v)
-    t = T975[min(len(v) - 2, len(T975) - 1)]
-    return "%.4g ± %.2g" % (st.mean(v), t * st.stdev(v) / math.sqrt(len(v)))
+    return "%.4g ± %.2g" % (st.mean(v), t975(len(v) - 1) * st.stdev(v) / math.sqrt(len(v)))
 
 
 def main(argv):

@@ -320,16 +320,7 @@ TEST_SUITE("viewer") {
       session.take_frame(view.accumulate, true, hdr, r);
       session.screenshot(base, hdr, compose_view(view.mode, hdr, nullptr, session.options().output, view.split), r, "{}");
     };
-    std::string error;
-    try {
-      for (int guard = 0; guard < 100000; ++guard) {
-        const ScriptRunner::Step st = runner.step(shot);
-        if (st == ScriptRunner::Step::done) break;
-        if (st == ScriptRunner::Step::waiting) session.wait_frames_done();
-      }
-    } catch (const std::runtime_error& e) {
-      error = e.what();
-    }
+    const std::string error = run_headless(session, runner, shot);
     session.stop();
     CHECK(error.starts_with("t.txt:9: option 'path.max_depth'"));
     const Image a = read_image(d + "/a.exr"), b = read_image(d + "/b.exr"), c = read_image(d + "/c.exr");

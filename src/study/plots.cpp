@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -46,18 +45,7 @@ std::string shell_quote(const std::string& s) {
 }  // namespace
 
 namespace {
-bool selected(const std::vector<std::pair<std::string, std::string>>& where, const Row& r) {
-  return std::all_of(where.begin(), where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
-}
-bool selected(const PlotSpec& p, const Row& r) { return selected(p.where, r); }
-
-std::vector<std::string> split_plus(const std::string& key) {
-  std::vector<std::string> parts;
-  std::stringstream ss(key);
-  std::string k;
-  while (std::getline(ss, k, '+')) parts.push_back(k);
-  return parts;
-}
+bool selected(const PlotSpec& p, const Row& r) { return r.matches(p.where); }
 
 // Whether the row's integrator reads option `key` (its prefix names who reads it).
 bool relevant(const std::string& key, const Row& r) {
@@ -115,17 +103,17 @@ std::string scene_name(const std::string& scene) {
 std::string series_label(const std::string& series_key, const Row& r,
                          const std::vector<std::pair<std::string, std::string>>& baseline) {
   std::string label;
-  for (const auto& k : split_plus(series_key)) {
+  for (const auto& k : split_keys(series_key)) {
     if (!relevant(k, r)) continue;
     const std::string v = k == "scene" ? scene_name(r.scene) : r.option(k);
     label += (label.empty() ? "" : " ") + v;
   }
-  if (!baseline.empty() && selected(baseline, r)) label += " (baseline)";
+  if (!baseline.empty() && r.matches(baseline)) label += " (baseline)";
   return label;
 }
 
 void shorten_labels(std::vector<PlotSeries>& series, const std::string& series_key) {
-  const auto keys = split_plus(series_key);
+  const auto keys = split_keys(series_key);
   if (keys.size() < 2 || keys.front() != "integrator") return;
   std::vector<std::string> shorter;
   for (const auto& s : series) {

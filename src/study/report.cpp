@@ -85,10 +85,6 @@ std::string build_description() {
 }
 
 namespace {
-bool matches(const std::vector<std::pair<std::string, std::string>>& where, const Row& r) {
-  return std::all_of(where.begin(), where.end(), [&](const auto& kv) { return r.option(kv.first) == kv.second; });
-}
-
 // Lower is better for every metric column but fps.
 bool better(const std::string& col, double a, double b) { return col == "fps" ? a > b : a < b; }
 
@@ -106,7 +102,7 @@ std::string configuration_table(const Study& s, const std::vector<Row>& rows, co
   std::map<std::string, std::map<std::string, double>> best;  // scene -> column -> best mean
   for (const auto& c : configs) {
     const auto& rs = by_config[c.config];
-    if (rel && !rs.empty() && matches(s.baseline, *rs.front()) && !baseline_of.count(c.scene)) baseline_of[c.scene] = c.config;
+    if (rel && !rs.empty() && rs.front()->matches(s.baseline) && !baseline_of.count(c.scene)) baseline_of[c.scene] = c.config;
     for (const auto& col : cols) {
       std::vector<double> v;
       for (const Row* r : rs) v.push_back(r->metric(col));

@@ -1,5 +1,7 @@
 #include "study/results.h"
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -24,6 +26,19 @@ std::string Row::option(const std::string& key) const {
   for (const auto& [k, v] : options)
     if (k == key) return v;
   return "";
+}
+
+bool Row::matches(const std::vector<std::pair<std::string, std::string>>& where) const {
+  return std::all_of(where.begin(), where.end(), [&](const auto& kv) { return option(kv.first) == kv.second; });
+}
+
+std::vector<std::string> split_keys(const std::string& joined) {
+  std::vector<std::string> keys;
+  size_t start = 0;
+  for (size_t plus; (plus = joined.find('+', start)) != std::string::npos; start = plus + 1)
+    keys.push_back(joined.substr(start, plus - start));
+  if (start < joined.size()) keys.push_back(joined.substr(start));  // as getline: "" and a final '+' add nothing
+  return keys;
 }
 
 double Row::metric(const std::string& name) const {

@@ -28,7 +28,12 @@ struct Row {
   // "scene", "seed", "frame" or an option key; "a+b" joins the values of a and b with a space.
   std::string option(const std::string& key) const;
   double metric(const std::string& name) const;
+  // True when option(key) == value for every pair (a plot's "where", a study's "baseline").
+  bool matches(const std::vector<std::pair<std::string, std::string>>& where) const;
 };
+
+// The keys of "a+b" (plot x / series / where keys): {"a", "b"}; "" gives none.
+std::vector<std::string> split_keys(const std::string& joined);
 
 class ResultStore {
  public:

@@ -12,6 +12,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "study/results.h"
+
 namespace rl::study {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -199,9 +201,7 @@ bool is_option_key(const std::string& k) {
 
 // "a+b" keys of a plot's x / series / where: option keys, "frame", "scene" or "seed".
 void check_plot_keys(const std::string& joined, const std::string& plot, const std::string& path) {
-  std::stringstream parts(joined);
-  std::string k;
-  while (std::getline(parts, k, '+'))
+  for (const std::string& k : split_keys(joined))
     if (k != "frame" && k != "scene" && k != "seed" && !is_option_key(k))
       fail(path, fmt::format("plot '{}': '{}' is not an option key, \"frame\", \"scene\" or \"seed\"", plot, k));
 }

@@ -17,12 +17,18 @@ BackgroundReference::BackgroundReference(const Scene& scene, Options defaults) :
 
 BackgroundReference::~BackgroundReference() = default;
 
-bool BackgroundReference::aim(const Options& viewer, const CameraKey& camera, int frame) {
-  Options r = reference_options(defaults_, viewer);
+Options background_reference_options(const Options& defaults, const Options& viewer) {
+  Options r = reference_options(defaults, viewer);
   r.render.spp = 1;
   r.render.frames = 1;
   r.render.seed = reference_seed(viewer.render.seed);
   r.render.backend = viewer.render.backend;  // pt runs on either
+  r.render.threads = 0;
+  return r;
+}
+
+bool BackgroundReference::aim(const Options& viewer, const CameraKey& camera, int frame) {
+  Options r = background_reference_options(defaults_, viewer);
   const bool animated = scene_animated(rest_);
   const int pose = animated ? std::clamp(frame, 0, last_key_frame_) : 0;
   std::string key = options_to_json(r, -1);

@@ -55,4 +55,10 @@ class BackgroundReference {
 // viewer's seed still selects the reference's noise deterministically).
 uint64_t reference_seed(uint64_t viewer_seed);
 
+// The options of one reference pass for the viewer's options: reference_options() of them, one
+// sample per pixel, the reference's seed, the viewer's backend, the default thread count (the
+// caller's: it does not change the image). Everything the reference depends on but the camera
+// and the animation frame.
+Options background_reference_options(const Options& defaults, const Options& viewer);
+
 }  // namespace rl::viewer

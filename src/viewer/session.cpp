@@ -110,10 +110,7 @@ void Session::push_restart() {
 }
 
 std::string Session::reference_key(const Options& o) const {
-  Options r = reference_options(defaults_, o);
-  r.render.seed = o.render.seed;
-  r.render.backend = o.render.backend;
-  return options_to_json(r, -1);
+  return options_to_json(background_reference_options(defaults_, o), -1);
 }
 
 Effect Session::set(const std::string& key, const std::string& value) {
