@@ -42,6 +42,11 @@ struct FrameInfo {
   // An animated scene's lights as they were one frame earlier (Lights::follow carries history
   // samples to where their emitters moved); null when no light moves or on the first frame.
   const Lights* previous_lights = nullptr;
+  // An animated scene as it was one frame earlier, with its own BVH: given (from the second
+  // frame on) only to an integrator whose needs_previous_scene() says so, which evaluates the
+  // history's targets there (GRIS: each domain's target in its own scene). Null otherwise.
+  const Scene* previous_scene = nullptr;
+  const Accel* previous_accel = nullptr;
   std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
   StageTimes* stages = nullptr;                        // where the integrator records its stages' wall time; may be null
 };
@@ -51,6 +56,9 @@ class Integrator {
   virtual ~Integrator() = default;
   // Renders one frame into `out` (already sized to the film); called for frames 0, 1, ... in order.
   virtual void render_frame(const FrameInfo& frame, Image& out) = 0;
+  // True when render_frame wants FrameInfo::previous_scene / previous_accel (the renderer then
+  // keeps a second, one-frame-old copy of an animated scene and its BVH: twice the animation cost).
+  virtual bool needs_previous_scene() const { return false; }
 };
 
 struct IntegratorInfo {

@@ -155,6 +155,7 @@ struct PtOptions {
   float distance_threshold = 0.1f;
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
+  HistoryScene history_scene = HistoryScene::previous;
   ReuseOptions reuse;
 };
 
@@ -249,6 +250,7 @@ void visit_options(O& o, V& v) {
   v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
+  v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");
   visit_reuse("pt", o.pt.reuse, v);
   v("ssr.max_steps", o.ssr.max_steps, "screen-space reflections: pixels a reflection ray walks at most", Range{1, 1 << 16});
   v("ssr.thickness", o.ssr.thickness, "a ray hits a surface when behind it by at most this fraction of its distance from the camera", Range{1e-5, 10});

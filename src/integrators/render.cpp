@@ -164,6 +164,17 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
   info.camera = &cam;
   info.previous_camera = previous_ ? &*previous_ : nullptr;
   info.previous_lights = previous_ && previous_lights_ ? previous_lights_.get() : nullptr;
+  if (previous_ && &scene_ == &animated_ && integrator_->needs_previous_scene()) {
+    StageTimer timer(stages, "animate");
+    if (previous_shown_ != frame_ - 1) {  // the scene one frame earlier, and a BVH of it
+      animate_scene(rest_, frame_ - 1, previous_scene_);
+      if (previous_accel_) previous_accel_->update();
+      else previous_accel_ = std::make_unique<Accel>(previous_scene_);
+      previous_shown_ = frame_ - 1;
+    }
+    info.previous_scene = &previous_scene_;
+    info.previous_accel = previous_accel_.get();
+  }
   info.progress = progress;
   info.stages = stages;
   // A zeroed image of the film's size, as the integrators expect (some add their chains into it).

@@ -86,6 +86,11 @@ class FrameRenderer {
   std::unique_ptr<RayQueries> queries_;  // render.backend's ray queries; null for the CPU (accel_ answers)
   std::unique_ptr<Lights> lights_;
   std::unique_ptr<Lights> previous_lights_;  // lights that move: as they were one frame earlier
+  // The animated scene one frame earlier and its BVH, kept only for an integrator that asks
+  // (Integrator::needs_previous_scene); built on first use.
+  Scene previous_scene_;
+  std::unique_ptr<Accel> previous_accel_;
+  int previous_shown_ = -1;  // the frame previous_scene_ shows
   std::unique_ptr<ThreadLimit> limit_;
   std::unique_ptr<Integrator> integrator_;
   std::optional<PerspectiveCamera> previous_;

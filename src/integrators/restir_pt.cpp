@@ -4,6 +4,7 @@
 // pt_path.h), then shaded with one path. The reference is the path tracer with the same path.*
 // options (emission seen directly at the primary hit is added as is).
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "integrators/pt_path.h"
@@ -16,11 +17,22 @@ std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx);  // regist
 namespace {
 
 // The bridge of mis.h for paths: shifts evaluate the path at the other pixel's primary hit.
+// In an animated scene's temporal pass (pt.history_scene = previous) domain 1 is the previous
+// frame: the history's paths were traced in that frame's scene, and a path is shifted between the
+// frames by random replay -- its random numbers re-traced from the other frame's primary hit in
+// that frame's scene (`history`: the previous scene, its BVH and its lights). The map is the
+// identity in primary sample space, so the pair of frames is a valid shift with |∂ȳ/∂x̄| =
+// p(x̄)/p(ȳ), each density taken in its own scene (GRIS, Lin et al. 2022, §6.1), and the MIS
+// weights see each domain's own target, which vanishes wherever that frame could not have drawn
+// the path (a light switched off, an occluder moved in): the weights stay a partition of unity
+// over the supports (GRIS §5), which is what unbiasedness needs.
 struct PtBridge {
   const RenderContext* ctx;
   const PathSettings* ps;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
+  const RenderContext* history = nullptr;  // domain 1's scene when it is another frame's; else null
   mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
+  const RenderContext& scene_of(int i) const { return i == 1 && history ? *history : *ctx; }
   bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
     const bool ok = shift_path(*ctx, *ps, y, *surfaces[0], x, jacobian);
@@ -31,7 +43,7 @@ struct PtBridge {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
     float jacobian;
-    if (!shift_path(*ctx, *ps, x, *surfaces[i], y, jacobian)) return 0;
+    if (!shift_path(scene_of(i), *ps, x, *surfaces[i], y, jacobian)) return 0;
     float t = luminance(y.contribution) * jacobian;
     if (ctx->planted) t *= ctx->planted->jacobian_scale * (i == shifting ? ctx->planted->own_target_scale : 1.0f);
     return t;
@@ -44,6 +56,11 @@ class RestirPt final : public Integrator {
   explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options)) {
     if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_restir_di(ctx);
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
+  }
+
+  bool needs_previous_scene() const override {
+    const Options& o = ctx_.options;
+    return scene_animated(ctx_.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous;
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
@@ -74,7 +91,14 @@ class RestirPt final : public Integrator {
     const uint64_t seed = o.render.seed;
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
-    auto make_bridge = [&](const GSurface* const* surfaces, int, bool) { return PtBridge{&ctx_, &settings_, surfaces}; };
+    // The previous frame's scene for the history (animated scenes, pt.history_scene = previous).
+    std::optional<RenderContext> history;
+    if (frame.previous_scene && frame.previous_accel)
+      history.emplace(RenderContext{*frame.previous_scene, *frame.previous_accel,
+                                    frame.previous_lights ? *frame.previous_lights : ctx_.lights, ctx_.options, ctx_.planted});
+    auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
+      return PtBridge{&ctx_, &settings_, surfaces, temporal && history ? &*history : nullptr};
+    };
 
     // 1. Initial paths.
     {
@@ -134,13 +158,18 @@ class RestirPt final : public Integrator {
 }  // namespace
 
 std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
-  // Paths reused from the previous frame would need their vertices carried with the moving
-  // geometry and their targets evaluated in the previous frame's scene (issue 11; done for ReSTIR
-  // DI): until then an animated scene's temporal reuse would be silently biased, so it is refused.
+  // Temporal reuse in an animated scene (issue 11). Unbiased (pt.history_scene = previous) only by
+  // random replay between the frames (see PtBridge): a reconnected path's vertex x_k and its cached
+  // suffix belong to the frame that traced them and cannot be re-evaluated in another frame's
+  // scene. The other shifts run with pt.history_scene = current, named as biased (its bias is
+  // measured in tests/test_animation.cpp). ReSTIR DI's own temporal reuse (pt.direct = restir-di)
+  // is unbiased in animated scenes.
   const Options& o = ctx.options;
-  if (scene_animated(ctx.scene) && (o.pt.reuse.temporal || (o.pt.direct == DirectLighting::restir_di && o.di.reuse.temporal)))
-    throw OptionError("restir-pt: temporal reuse in an animated scene is not supported yet (restir-di supports it): set "
-                      "pt.temporal=false (and di.temporal=false with pt.direct=restir-di)");
+  if (scene_animated(ctx.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous &&
+      o.pt.shift != ShiftMapping::random_replay)
+    throw OptionError("restir-pt: unbiased temporal reuse in an animated scene needs pt.shift=random-replay (a reconnected "
+                      "path keeps the previous frame's vertices and cached radiance); set pt.shift=random-replay, or "
+                      "pt.history_scene=current (biased), or pt.temporal=false");
   return std::make_unique<RestirPt>(ctx);
 }
 
