@@ -3,6 +3,8 @@
 // frame and from neighbouring pixels, then shaded with one sample. Direct lighting only (the
 // reference is the path tracer at path.max_depth = 1). All resampling math lives in src/restir;
 // the pixel bookkeeping of reuse in reuse_passes.h.
+#include <optional>
+
 #include "integrators/di_sampling.h"
 #include "integrators/reuse_passes.h"
 
@@ -20,25 +22,30 @@ namespace {
 // weights must vanish outside each domain's support), e.g. where a light moved into view;
 // evaluating it with this frame's lights instead left -20 to -40 % on the dynamic room's glossy
 // block (di.history_scene = current keeps that shortcut, named and measured as biased).
-// Visibility is tested in this frame's BVH (moving occluders: an approximation).
+// Visibility in the history's target is tested in the previous frame's BVH (`history`, kept by
+// the renderer when the target includes visibility): the history only holds samples that were
+// visible a frame earlier, so near a moving occluder's shadow this frame's BVH would give it the
+// wrong support.
 struct DiBridge {
   const RenderContext* ctx;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
   bool canonical_visibility;        // the canonical target includes visibility
   bool other_visibility;            // other domains' targets include visibility
   const Lights* history_lights = nullptr;  // temporal pass of an animated scene: domain 1's lights
+  bool history_in_previous = true;          // di.history_scene = previous
+  const RenderContext* history = nullptr;   // temporal pass: the previous frame's scene and BVH, if kept
   bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
     x = y;
     jacobian = 1;
     if (i == 1 && history_lights) return ctx->lights.follow(y.emitter, *history_lights, x.position, x.normal);
     return true;
   }
-  bool history_in_previous = true;          // di.history_scene = previous
   float target_from(int i, const LightPoint& x) const {
-    if (i == 1 && history_lights && history_in_previous) {
+    if (i == 1 && history_in_previous && (history_lights || history)) {
       LightPoint back = x;  // where x was one frame earlier
-      if (!history_lights->follow(x.emitter, ctx->lights, back.position, back.normal)) return 0;
-      return di_target(*ctx, *history_lights, *surfaces[1], back, other_visibility);
+      if (history_lights && !history_lights->follow(x.emitter, ctx->lights, back.position, back.normal)) return 0;
+      return di_target(history ? *history : *ctx, history_lights ? *history_lights : ctx->lights, *surfaces[1], back,
+                       other_visibility);
     }
     return di_target(*ctx, *surfaces[i], x, i == 0 ? canonical_visibility : other_visibility);
   }
@@ -47,6 +54,13 @@ struct DiBridge {
 class RestirDi final : public Integrator {
  public:
   explicit RestirDi(const RenderContext& ctx) : ctx_(ctx) {}
+
+  // The previous frame's BVH when the history's target includes visibility (see DiBridge).
+  bool needs_previous_scene() const override {
+    const DiOptions& di = ctx_.options.di;
+    return scene_animated(ctx_.scene) && di.reuse.temporal && di.history_scene == HistoryScene::previous &&
+           di.visibility_reuse && di.neighbor_visibility;
+  }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     render_chains(chains_, ctx_.options.render.spp, out,
@@ -65,9 +79,14 @@ class RestirDi final : public Integrator {
     const uint64_t seed = o.render.seed;
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
+    std::optional<RenderContext> history;  // the previous frame's scene, when the renderer kept it
+    if (frame.previous_scene && frame.previous_accel)
+      history.emplace(RenderContext{*frame.previous_scene, *frame.previous_accel,
+                                    frame.previous_lights ? *frame.previous_lights : ctx_.lights, ctx_.options, ctx_.planted});
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
-                      temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous};
+                      temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous,
+                      temporal && history && !(ctx_.planted && ctx_.planted->history_visibility_now) ? &*history : nullptr};
     };
 
     // 1. Initial candidates (their emitters, and environment directions, from pre-sampled light

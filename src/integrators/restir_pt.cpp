@@ -60,7 +60,8 @@ class RestirPt final : public Integrator {
 
   bool needs_previous_scene() const override {
     const Options& o = ctx_.options;
-    return scene_animated(ctx_.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous;
+    return (scene_animated(ctx_.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous) ||
+           (direct_ && direct_->needs_previous_scene());
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
