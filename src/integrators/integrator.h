@@ -3,6 +3,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -50,6 +51,14 @@ struct FrameInfo {
   std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
   StageTimes* stages = nullptr;                        // where the integrator records its stages' wall time; may be null
 };
+
+// The previous frame's scene, BVH and lights as a RenderContext (ctx's options and planted
+// biases), when the renderer kept them (FrameInfo::previous_scene); empty otherwise.
+inline std::optional<RenderContext> previous_context(const RenderContext& ctx, const FrameInfo& frame) {
+  if (!frame.previous_scene || !frame.previous_accel) return std::nullopt;
+  return RenderContext{*frame.previous_scene, *frame.previous_accel,
+                       frame.previous_lights ? *frame.previous_lights : ctx.lights, ctx.options, ctx.planted};
+}
 
 class Integrator {
  public:

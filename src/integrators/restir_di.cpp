@@ -79,10 +79,7 @@ class RestirDi final : public Integrator {
     const uint64_t seed = o.render.seed;
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
-    std::optional<RenderContext> history;  // the previous frame's scene, when the renderer kept it
-    if (frame.previous_scene && frame.previous_accel)
-      history.emplace(RenderContext{*frame.previous_scene, *frame.previous_accel,
-                                    frame.previous_lights ? *frame.previous_lights : ctx_.lights, ctx_.options, ctx_.planted});
+    const std::optional<RenderContext> history = previous_context(ctx_, frame);
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
                       temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous,

@@ -93,10 +93,7 @@ class RestirPt final : public Integrator {
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
     // The previous frame's scene for the history (animated scenes, pt.history_scene = previous).
-    std::optional<RenderContext> history;
-    if (frame.previous_scene && frame.previous_accel)
-      history.emplace(RenderContext{*frame.previous_scene, *frame.previous_accel,
-                                    frame.previous_lights ? *frame.previous_lights : ctx_.lights, ctx_.options, ctx_.planted});
+    const std::optional<RenderContext> history = previous_context(ctx_, frame);
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       return PtBridge{&ctx_, &settings_, surfaces, temporal && history ? &*history : nullptr};
     };
