@@ -270,6 +270,20 @@ Options dynamic_room_di(const Scene& rest, const char* history_scene) {
   set_option(o, "di.history_scene", history_scene);
   return o;
 }
+
+// One frame's `runs` against its frozen-scene reference at the CI tier of the static equivalence tests
+// (1% on the image mean, 3% on 16x16 blocks); the report is printed under `label`.
+test::EquivalenceReport compare_frame(const std::vector<test::BlockMeans>& runs, const std::vector<test::BlockMeans>& ref,
+                                      const std::string& label) {
+  test::EquivalenceSpec spec;
+  spec.mean_margin = 0.01;
+  spec.block_margin = 0.03;
+  const test::EquivalenceReport rep = test::compare_runs(runs, ref, spec);
+  const std::string what = label + ": " + rep.describe();
+  MESSAGE(what);
+  return rep;
+}
+
 // ReSTIR PT in the dynamic room: random replay (unbiased across frames), paths of up to 3
 // segments, the DI test's film and sample pattern.
 Options dynamic_room_pt(const Scene& rest, const char* history_scene) {
@@ -292,14 +306,9 @@ TEST_SUITE("slow_dynamic") {
     const Options o = dynamic_room_di(rest, "previous");
     const int runs = 300;
     auto di = frame_blocks(rest, o, {8, 11}, runs, 5000);
-    test::EquivalenceSpec spec;  // the CI tier of the static equivalence tests
-    spec.mean_margin = 0.01;
-    spec.block_margin = 0.03;
     for (int f : {8, 11}) {
       const auto ref = frozen_reference(rest, o, f, 512, 8);
-      const test::EquivalenceReport rep = test::compare_runs(di[f], ref, spec);
-      const std::string what = "frame " + std::to_string(f) + ": " + rep.describe();
-      MESSAGE(what);
+      const test::EquivalenceReport rep = compare_frame(di[f], ref, "frame " + std::to_string(f));
       CHECK(rep.pass());
     }
   }
@@ -308,12 +317,7 @@ TEST_SUITE("slow_dynamic") {
     const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
     const Options o = dynamic_room_di(rest, "current");
     auto di = frame_blocks(rest, o, {11}, 48, 7000);
-    test::EquivalenceSpec spec;
-    spec.mean_margin = 0.01;
-    spec.block_margin = 0.03;
-    const test::EquivalenceReport rep = test::compare_runs(di[11], frozen_reference(rest, o, 11, 512, 8), spec);
-    const std::string what = "history in this frame's scene, frame 11: " + rep.describe();
-    MESSAGE(what);
+    const test::EquivalenceReport rep = compare_frame(di[11], frozen_reference(rest, o, 11, 512, 8), "history in this frame's scene, frame 11");
     CHECK_FALSE(rep.pass());
     CHECK(rep.worst_block_rel < -0.05);  // darker where the history claims what it could not draw
   }
@@ -326,14 +330,9 @@ TEST_SUITE("slow_dynamic") {
     const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
     const Options o = dynamic_room_pt(rest, "previous");
     auto pt = frame_blocks(rest, o, {8, 11}, 1000, 9000);
-    test::EquivalenceSpec spec;
-    spec.mean_margin = 0.01;
-    spec.block_margin = 0.03;
     for (int f : {8, 11}) {
       const auto ref = frozen_reference(rest, o, f, 2048, 8);
-      const test::EquivalenceReport rep = test::compare_runs(pt[f], ref, spec);
-      const std::string what = "restir-pt frame " + std::to_string(f) + ": " + rep.describe();
-      MESSAGE(what);
+      const test::EquivalenceReport rep = compare_frame(pt[f], ref, "restir-pt frame " + std::to_string(f));
       CHECK(rep.pass());
     }
   }
@@ -348,12 +347,7 @@ TEST_SUITE("slow_dynamic") {
       Options o = dynamic_room_pt(rest, "current");
       set_option(o, "pt.shift", shift);
       auto pt = frame_blocks(rest, o, {8}, 48, 11000);
-      test::EquivalenceSpec spec;
-      spec.mean_margin = 0.01;
-      spec.block_margin = 0.03;
-      const test::EquivalenceReport rep = test::compare_runs(pt[8], frozen_reference(rest, o, 8, 512, 8), spec);
-      const std::string what = std::string("restir-pt ") + shift + ", history in this frame's scene, frame 8: " + rep.describe();
-      MESSAGE(what);
+      const test::EquivalenceReport rep = compare_frame(pt[8], frozen_reference(rest, o, 8, 512, 8), std::string("restir-pt ") + shift + ", history in this frame's scene, frame 8");
       CHECK_FALSE(rep.pass());
       // random replay darkens (-19% on a 16x16 block here); hybrid brightens (+34%): its history
       // keeps paths reconnected to the light that just went off, with their cached emission.
@@ -382,25 +376,18 @@ TEST_SUITE("slow_dynamic") {
           "AttributeEnd\n");
     const Scene rest = load_scene((d / "s.pbrt").string());
     const Options o = dynamic_room_di(rest, "previous");
-    test::EquivalenceSpec spec;
-    spec.mean_margin = 0.01;
-    spec.block_margin = 0.03;
     std::map<int, std::vector<test::BlockMeans>> refs;
     for (int f : {5, 7}) refs[f] = frozen_reference(rest, o, f, 4096, 8);
     auto di = frame_blocks(rest, o, {5, 7}, 800, 13000);
     for (int f : {5, 7}) {
-      const test::EquivalenceReport rep = test::compare_runs(di[f], refs[f], spec);
-      const std::string what = "restir-di, moving occluder, frame " + std::to_string(f) + ": " + rep.describe();
-      MESSAGE(what);
+      const test::EquivalenceReport rep = compare_frame(di[f], refs[f], "restir-di, moving occluder, frame " + std::to_string(f));
       CHECK(rep.pass());
     }
     // Power: the history's visibility tested in this frame's BVH (planted) fails at frame 7.
     PlantedBias now;
     now.history_visibility_now = true;
     auto biased = frame_blocks(rest, o, {7}, 100, 14000, &now);
-    const test::EquivalenceReport rep = test::compare_runs(biased[7], refs[7], spec);
-    const std::string what = "planted: history visibility in this frame's BVH, frame 7: " + rep.describe();
-    MESSAGE(what);
+    const test::EquivalenceReport rep = compare_frame(biased[7], refs[7], "planted: history visibility in this frame's BVH, frame 7");
     CHECK_FALSE(rep.pass());
     fs::remove_all(d);
   }
