@@ -284,6 +284,59 @@ TEST_CASE("restir_toy: combine() is unbiased for 1/Z, generalized balance and pa
   }
 }
 
+// A bridge over the unshifted toy that counts its target evaluations and, with Vouch, tells
+// combine() that each input's stored target is its own p̂_{←i} (mis.h: stored_target_valid).
+template <bool Vouch>
+struct CountingBridge {
+  ToyBridge toy;
+  mutable long evaluations = 0;
+  bool shift_to_canonical(int i, const float& y, float& x, float& jacobian) const { return toy.shift_to_canonical(i, y, x, jacobian); }
+  float target_from(int i, const float& x) const {
+    ++evaluations;
+    return toy.target_from(i, x);
+  }
+  bool stored_target_valid(int) const requires Vouch { return true; }
+};
+
+// Reading a stored target is an optimisation, not an approximation: with the identity shift the
+// output reservoir is bit for bit the one of evaluating every target, with fewer evaluations; and
+// a stored target that is wrong does change the result (the stored value is really what is read).
+TEST_CASE("restir_toy: combine() reads vouched stored targets: same reservoirs, fewer evaluations") {
+  constexpr int kTrials = 2000, K = 4;
+  for (ReuseMis mis : {ReuseMis::one_over_z, ReuseMis::generalized_balance, ReuseMis::pairwise}) {
+    CAPTURE(mis_name(mis));
+    const ToyBridge toy{kDomains, false};
+    CountingBridge<false> plain{toy};
+    CountingBridge<true> vouched{toy}, vouched_wrong{toy};
+    Pcg32 rng(4242, 9);
+    int identical = 0, differ_when_wrong = 0;
+    for (int t = 0; t < kTrials; ++t) {
+      std::array<R, 5> res, wrong;
+      std::array<const R*, 5> ptr{}, wrong_ptr{};
+      for (int i = 0; i < 5; ++i) {
+        res[size_t(i)] = ris([&](double y) { return toy.own_target(i, y); }, K, i == 0 ? Src::linear : Src::uniform, rng);
+        wrong[size_t(i)] = res[size_t(i)];
+        wrong[size_t(i)].target *= 1.5f;  // a stored target that is not p̂_i of the sample
+        ptr[size_t(i)] = &res[size_t(i)];
+        wrong_ptr[size_t(i)] = &wrong[size_t(i)];
+      }
+      const uint64_t state = rng.next_u32();
+      Pcg32 a(state, 1), b(state, 1), c(state, 1);
+      const R ra = combine(plain, std::span<const R* const>(ptr.data(), 5), mis, a);
+      const R rb = combine(vouched, std::span<const R* const>(ptr.data(), 5), mis, b);
+      const R rc = combine(vouched_wrong, std::span<const R* const>(wrong_ptr.data(), 5), mis, c);
+      identical += ra.sample == rb.sample && ra.ucw == rb.ucw && ra.target == rb.target && ra.weight_sum == rb.weight_sum;
+      differ_when_wrong += rc.ucw != ra.ucw || rc.sample != ra.sample;
+    }
+    CHECK(identical == kTrials);
+    CHECK(vouched.evaluations < plain.evaluations);
+    CHECK(differ_when_wrong > kTrials / 2);
+    const std::string note = std::string(mis_name(mis)) + ": target evaluations " + std::to_string(plain.evaluations) +
+                             " -> " + std::to_string(vouched.evaluations);
+    MESSAGE(note);
+  }
+}
+
 // Invariant 2: constant MIS (m_i = M_i/ΣM) is biased exactly as the math predicts when supports
 // differ, and unbiased when all inputs cover the canonical support.
 TEST_CASE("restir_toy: constant MIS is biased with different supports, unbiased with equal ones") {

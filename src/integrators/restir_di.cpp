@@ -34,11 +34,20 @@ struct DiBridge {
   const Lights* history_lights = nullptr;  // temporal pass of an animated scene: domain 1's lights
   bool history_in_previous = true;          // di.history_scene = previous
   const RenderContext* history = nullptr;   // temporal pass: the previous frame's scene and BVH, if kept
+  bool temporal = false;                    // domain 1 is the previous frame
+  bool static_scene = false;                // nothing moves: last frame's scene is this frame's
   bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
     x = y;
     jacobian = 1;
     if (i == 1 && history_lights) return ctx->lights.follow(y.emitter, *history_lights, x.position, x.normal);
     return true;
+  }
+  // A reservoir's target is di_target at its own surface with the canonical visibility flag: the
+  // canonical one always; another domain's (identity shift) when the other domains' targets use the
+  // same flag and the same scene: a spatial neighbour of this frame, or the history of a static
+  // scene (computed last frame at surfaces[1], in the same scene and lights).
+  bool stored_target_valid(int i) const {
+    return i == 0 || (canonical_visibility == other_visibility && (!temporal || static_scene));
   }
   float target_from(int i, const LightPoint& x) const {
     if (i == 1 && history_in_previous && (history_lights || history)) {
@@ -80,10 +89,12 @@ class RestirDi final : public Integrator {
     c.begin_frame(ctx_, frame, s);
     const GBuffer& g = c.gbuffer;
     const std::optional<RenderContext> history = previous_context(ctx_, frame);
+    const bool static_scene = !scene_animated(ctx_.scene);  // once per frame: it scans the scene
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
                       temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous,
-                      temporal && history && !(ctx_.planted && ctx_.planted->history_visibility_now) ? &*history : nullptr};
+                      temporal && history && !(ctx_.planted && ctx_.planted->history_visibility_now) ? &*history : nullptr,
+                      temporal, static_scene};
     };
 
     // 1. Initial candidates (their emitters, and environment directions, from pre-sampled light

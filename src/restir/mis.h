@@ -10,6 +10,12 @@
 //   // p̂_{←i}(x): source i's target function at the canonical-domain sample x shifted back to
 //   // domain i, times that shift's jacobian |∂T_{0→i}/∂x| (0 when the shift fails). For i == 0: p̂_0(x).
 //   float target_from(int i, const Sample& x) const;
+//   // Optional: true when input i's stored target is p̂_{←i} of its own sample after the shift,
+//   // i.e. the shift T_{i→0} is the identity with jacobian 1 and input i's domain computed its target
+//   // with the same function target_from(i, ·) uses (ReSTIR DI's spatial reuse: neighbours of this
+//   // frame, one target). combine() then reads inputs[i]->target instead of evaluating it again
+//   // (and tracing its shadow ray): RTXDI reads the stored target pdf the same way.
+//   bool stored_target_valid(int i) const;
 #pragma once
 #include <span>
 
@@ -40,6 +46,15 @@ namespace detail {
 //   m_j(x) = (M_j/ΣM) · R p̂_{←j}(x) / (R p̂_{←j}(x) + M_c p̂_0(x))
 // For every x with p̂_0(x) > 0 the weights of all sources sum to one (each pair's two fractions sum to 1).
 RESTIR_HD inline float pairwise_fraction(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
+
+// p̂_{←i} of input i's own (shifted) sample x: its stored target where the bridge vouches for it.
+template <class Bridge, class Sample>
+float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const Sample& x) {
+  if constexpr (requires { bridge.stored_target_valid(i); }) {
+    if (bridge.stored_target_valid(i)) return in.target;
+  }
+  return bridge.target_from(i, x);
+}
 }  // namespace detail
 
 // Combines inputs[0] (canonical) with inputs[1..] into a new reservoir in the canonical domain.
@@ -71,7 +86,7 @@ Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample
       (void)rng.next_float();
       continue;
     }
-    const float p0 = bridge.target_from(0, x);
+    const float p0 = i == 0 ? detail::own_target(bridge, 0, in, x) : bridge.target_from(0, x);
     float m = 0;
     switch (mis) {
       case ReuseMis::constant:
@@ -83,7 +98,7 @@ Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample
       case ReuseMis::generalized_balance: {
         float num = 0, den = 0;
         for (int j = 0; j < n; ++j) {
-          const float pj = j == 0 ? p0 : bridge.target_from(j, x);
+          const float pj = j == 0 ? p0 : j == i ? detail::own_target(bridge, i, in, x) : bridge.target_from(j, x);
           const float t = inputs[size_t(j)]->confidence * pj;
           den += t;
           if (j == i) num = t;
@@ -98,7 +113,7 @@ Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample
             m += inputs[size_t(j)]->confidence / m_sum *
                  detail::pairwise_fraction(m_c * p0, m_rest * bridge.target_from(j, x));
         } else {
-          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * bridge.target_from(i, x), m_c * p0);
+          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * detail::own_target(bridge, i, in, x), m_c * p0);
         }
         break;
       }
