@@ -213,10 +213,69 @@ void check_outputs(const fs::path& out, const Study& s) {
     }
     CHECK_MESSAGE(html.find("<img src=\"plots/" + p.name + ".png\"") != std::string::npos, "no <img> for plot " << p.name);
   }
+  // Images: labelled rows (the crop's among them), the crop region outlined on the full images,
+  // and each error map with its colour scale.
+  bool error_maps = false;
+  for (const auto& e : fs::directory_iterator(out / "images"))
+    error_maps = error_maps || e.path().string().ends_with("-error.png");
+  if (error_maps) {
+    CHECK(fs::exists(out / "images" / "error-scale.png"));
+    CHECK(html.find("src=\"images/error-scale.png\"") != std::string::npos);
+    CHECK(html.find("<th class=\"l\">crop<br>(centre quarter, 4×)</th>") != std::string::npos);
+    CHECK(html.find("<th class=\"l\">error map<br>") != std::string::npos);
+    CHECK(html.find("class=\"box\" style=\"left:") != std::string::npos);
+  }
 }
 }  // namespace
 
 TEST_SUITE("study") {
+  TEST_CASE("error maps: the scale bar uses error_map()'s colours, labelled at 0, 0.25, 0.5, 0.75, 1") {
+    const Image bar = error_scale_bar(240);
+    REQUIRE(bar.width == 240);
+    REQUIRE(bar.height > 20);
+    // error_map() of an image against itself is 0 everywhere: the bar's left end.
+    Image a(16, 16, Rgb(0.3f, 0.5f, 0.2f));
+    a.at(3, 4) = Rgb(2.0f, 0.1f, 0.0f);
+    const Image zero = error_map(a, a, OutputOptions{});
+    CHECK(zero.at(5, 5) == bar.at(2, 5));
+    CHECK(bar.at(2, 5) == Rgb(0));       // black = no error
+    CHECK(bar.at(237, 5) == Rgb(1));     // white = error 1
+    const Rgb mid = bar.at(120, 5);      // red-orange in between
+    CHECK(mid.x == doctest::Approx(1.0));
+    CHECK(mid.y > 0.3f);
+    CHECK(mid.y < 0.7f);
+    // A tick and a label (dark pixels) under each of the five values, and nothing dark elsewhere
+    // between them in the tick row.
+    auto dark = [&](int x0, int x1, int y0, int y1) {
+      int n = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = std::max(0, x0); x < std::min(bar.width, x1); ++x) n += bar.at(x, y).x < 0.5f;
+      return n;
+    };
+    for (int i = 0; i <= 4; ++i) {
+      const int x = 2 + int(std::lround(0.25 * i * 235));
+      CAPTURE(i);
+      CHECK(dark(x, x + 1, 14, 18) == 4);             // the tick
+      CHECK(dark(x - 12, x + 12, 18, bar.height) > 4);  // its label
+    }
+    CHECK(dark(20, 40, 14, 18) == 0);
+  }
+
+  TEST_CASE("crop_rect is the region zoom_crop shows") {
+    for (auto [w, h] : {std::pair{320, 180}, std::pair{32, 18}, std::pair{7, 5}}) {
+      CAPTURE(w);
+      const CropRect r = crop_rect(w, h);
+      Image im(w, h, Rgb(0));
+      im.at(r.x0, r.y0) = Rgb(1, 0, 0);
+      im.at(r.x0 + r.width - 1, r.y0 + r.height - 1) = Rgb(0, 1, 0);
+      const Image c = zoom_crop(im, 4);
+      CHECK(c.width == 4 * r.width);
+      CHECK(c.height == 4 * r.height);
+      CHECK(c.at(0, 0) == Rgb(1, 0, 0));
+      CHECK(c.at(c.width - 1, c.height - 1) == Rgb(0, 1, 0));
+    }
+  }
+
   TEST_CASE("grid expansion is the cartesian product, first axis slowest; zip pairs values") {
     Study g = parse_study(study_json(R"("axes": [{"key": "di.spatial_neighbors", "values": [0, 1, 2]},
                                                  {"key": "di.spatial_radius", "values": [10, 20]}])"), "/tmp/g.json", false);

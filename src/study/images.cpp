@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include <fmt/format.h>
+#include <stb_easy_font.h>
+
 #include "image/image_io.h"
 #include "image/tonemap.h"
 #if __has_include("image/flip.h")
@@ -78,12 +81,58 @@ Image error_map(const Image& test, const Image& ref, const OutputOptions& o) {
   return out;
 }
 
+namespace {
+// Draws `text` with stb_easy_font (Sean Barrett's public-domain stroke font: it returns quads of
+// whole pixels, 4 vertices of 16 bytes each) into an LDR image, top-left corner at (x, y).
+void draw_text(Image& img, int x, int y, const std::string& text, Rgb colour) {
+  std::string t = text;
+  std::vector<char> buffer(270 * (t.size() + 1));  // stb_easy_font's worst case is ~270 bytes per glyph
+  const int quads = stb_easy_font_print(0, 0, t.data(), nullptr, buffer.data(), int(buffer.size()));
+  for (int q = 0; q < quads; ++q) {
+    const float* v0 = reinterpret_cast<const float*>(buffer.data() + size_t(q) * 64);
+    const float* v2 = reinterpret_cast<const float*>(buffer.data() + size_t(q) * 64 + 32);
+    for (int py = y + int(v0[1]); py < y + int(v2[1]); ++py)
+      for (int px = x + int(v0[0]); px < x + int(v2[0]); ++px)
+        if (px >= 0 && py >= 0 && px < img.width && py < img.height) img.at(px, py) = colour;
+  }
+}
+}  // namespace
+
+Image error_scale_bar(int width) {
+  width = std::max(width, 64);
+  constexpr int kBar = 14, kTick = 4, kText = 10, kMargin = 2;
+  Image out(width, kBar + kTick + kText + kMargin, Rgb(1));
+  const int inner = width - 2 * kMargin;  // room for the first and last labels' halves
+  for (int x = 0; x < inner; ++x) {
+    const Rgb c = heat(float(x) / float(inner - 1));
+    for (int y = 0; y < kBar; ++y) out.at(kMargin + x, y) = c;
+  }
+  const Rgb ink(0.15f);
+  for (int i = 0; i <= 4; ++i) {
+    const float v = 0.25f * float(i);
+    const int x = kMargin + int(std::lround(v * float(inner - 1)));
+    for (int y = kBar; y < kBar + kTick; ++y) out.at(x, y) = ink;
+    std::string label = i == 0 ? "0" : i == 4 ? "1" : fmt::format("{:g}", v);
+    const int w = stb_easy_font_width(label.data());
+    draw_text(out, std::clamp(x - w / 2, 0, width - w), kBar + kTick, label, ink);
+  }
+  return out;
+}
+
+CropRect crop_rect(int width, int height) {
+  CropRect r;
+  r.width = std::min(width, std::max(8, width / 4));
+  r.height = std::min(height, std::max(8, height / 4));
+  r.x0 = (width - r.width) / 2;
+  r.y0 = (height - r.height) / 2;
+  return r;
+}
+
 Image zoom_crop(const Image& ldr, int scale) {
-  int cw = std::min(ldr.width, std::max(8, ldr.width / 4)), ch = std::min(ldr.height, std::max(8, ldr.height / 4));
-  int x0 = (ldr.width - cw) / 2, y0 = (ldr.height - ch) / 2;
-  Image out(cw * scale, ch * scale);
+  const CropRect r = crop_rect(ldr.width, ldr.height);
+  Image out(r.width * scale, r.height * scale);
   for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) out.at(x, y) = ldr.at(x0 + x / scale, y0 + y / scale);
+    for (int x = 0; x < out.width; ++x) out.at(x, y) = ldr.at(r.x0 + x / scale, r.y0 + y / scale);
   return out;
 }
 

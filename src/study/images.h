@@ -22,7 +22,18 @@ bool flip_available();
 // images, else min(1, |t - r| / (r + 0.01)) on luminance.
 Image error_map(const Image& test, const Image& ref, const OutputOptions& o);
 
-// The centre quarter of the image (at least 8x8 pixels), scaled up by an integer factor.
+// The colour scale of error_map(): a bar `width` pixels wide running from 0 (left) to 1 (right)
+// through the very colours error_map() uses, with tick marks and labels at 0, 0.25, 0.5, 0.75 and 1
+// below it (drawn with stb_easy_font), on a white background.
+Image error_scale_bar(int width = 280);
+
+// The region zoom_crop() shows: the centre quarter of a width x height image, at least 8x8 pixels.
+struct CropRect {
+  int x0 = 0, y0 = 0, width = 0, height = 0;
+};
+CropRect crop_rect(int width, int height);
+
+// crop_rect() of the image, scaled up by an integer factor (nearest neighbour).
 Image zoom_crop(const Image& ldr, int scale = 4);
 
 // Per-pixel standard deviation across images (same size, >= 2), mean over pixels and channels.

@@ -141,6 +141,77 @@ std::string configuration_table(const Study& s, const std::vector<Row>& rows, co
   }
   return h + "</table>\n";
 }
+
+// One <img> of images/NAME.png with the crop region outlined (crop_rect of the PNG's own size).
+std::string framed_image(const fs::path& out, const std::string& name, const std::string& alt) {
+  std::string box;
+  try {
+    const Image im = read_image((out / "images" / (name + ".png")).string());
+    const CropRect r = crop_rect(im.width, im.height);
+    auto pct = [](int a, int b) { return 100.0 * double(a) / double(std::max(b, 1)); };
+    box = fmt::format("<div class=\"box\" style=\"left:{:.2f}%;top:{:.2f}%;width:{:.2f}%;height:{:.2f}%\"></div>",
+                      pct(r.x0, im.width), pct(r.y0, im.height), pct(r.width, im.width), pct(r.height, im.height));
+  } catch (const std::exception&) {  // unreadable PNG: the image without its box
+  }
+  return fmt::format("<div class=\"frame\"><img src=\"images/{}.png\" alt=\"{}\">{}</div>", name, esc(alt), box);
+}
+
+// Per scene, one table: a column per configuration (the reference first), and labelled rows of the
+// full image (crop region outlined), its crop, the error map with its colour scale, and its crop.
+std::string image_tables(const fs::path& out, const Study& s, const std::vector<ReportConfig>& configs) {
+  auto exists = [&](const std::string& f) { return fs::exists(out / "images" / f); };
+  const std::string metric = flip_available() ? "FLIP" : "relative error";
+  bool any_error = false;
+  for (const auto& c : configs) any_error = any_error || exists(c.config + "-error.png");
+  if (any_error) write_png((out / "images" / "error-scale.png").string(), error_scale_bar(240));
+  std::string h = "<h2>Images</h2>\n<p>Last frame of the first seed, tone-mapped. The cyan box marks the crop: the "
+                  "centre quarter, shown 4× larger (nearest neighbour). Error maps: " + metric +
+                  " against the reference, on the scale under each map (0 = identical).</p>\n";
+  std::set<std::string> scenes_done;
+  for (const auto& sc : s.scenes) {
+    if (!scenes_done.insert(sc).second) continue;
+    std::vector<const ReportConfig*> cols;
+    std::string ref_name;
+    for (const auto& c : configs) {
+      if (c.scene != sc) continue;
+      if (ref_name.empty() && c.has_reference && exists("ref-" + c.config + ".png")) ref_name = "ref-" + c.config;
+      if (exists(c.config + ".png")) cols.push_back(&c);
+    }
+    if (cols.empty() && ref_name.empty()) continue;
+    std::string head = "<tr><th></th>", full = "<tr><th class=\"l\">image</th>",
+                crop = "<tr><th class=\"l\">crop<br>(centre quarter, 4×)</th>",
+                err = "<tr><th class=\"l\">error map<br>(" + metric + ")</th>",
+                err_crop = "<tr><th class=\"l\">error crop<br>(same scale)</th>", files = "<tr><th class=\"l\">files</th>";
+    if (!ref_name.empty()) {
+      head += "<th>reference</th>";
+      full += "<td>" + framed_image(out, ref_name, "reference") + "</td>";
+      crop += fmt::format("<td><img src=\"images/{}-crop.png\" alt=\"reference crop\"></td>", ref_name);
+      err += "<td></td>";
+      err_crop += "<td></td>";
+      files += "<td></td>";
+    }
+    for (const ReportConfig* c : cols) {
+      const std::string label = values_text(*c);
+      head += "<th>" + esc(label) + "</th>";
+      full += "<td>" + framed_image(out, c->config, label) + "</td>";
+      crop += fmt::format("<td><img src=\"images/{}-crop.png\" alt=\"crop\"></td>", c->config);
+      if (exists(c->config + "-error.png")) {
+        err += fmt::format("<td><img src=\"images/{}-error.png\" alt=\"error map\"><img class=\"scale\" "
+                           "src=\"images/error-scale.png\" alt=\"error scale: 0 (black) to 1 (white)\"></td>",
+                           c->config);
+        err_crop += fmt::format("<td><img src=\"images/{}-error-crop.png\" alt=\"error crop\"></td>", c->config);
+      } else {
+        err += "<td></td>";
+        err_crop += "<td></td>";
+      }
+      files += fmt::format("<td><a href=\"images/{}.exr\">EXR</a></td>", c->config);
+    }
+    h += fmt::format("<h3>{}</h3>\n<div class=\"images\"><table class=\"images\">\n", esc(sc));
+    for (const std::string* row : {&head, &full, &crop, &err, &err_crop, &files}) h += *row + "</tr>\n";
+    h += "</table></div>\n";
+  }
+  return h;
+}
 }  // namespace
 
 void write_report(const std::string& out_dir, const Study& s, const std::vector<Row>& rows,
@@ -151,8 +222,10 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
   h += fmt::format("<title>restir study: {}</title>\n", esc(s.name));
   h += "<style>body{font-family:sans-serif;margin:1.5em;max-width:1400px}table{border-collapse:collapse;font-size:90%}"
        "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}th{background:#eee}td.l,th.l{text-align:left}"
-       ".grid{display:flex;flex-wrap:wrap;gap:10px}.cell{font-size:80%;max-width:300px}"
-       ".cell img{width:280px;image-rendering:pixelated;display:block;border:1px solid #ccc}"
+       "div.images{overflow-x:auto}table.images td,table.images th{vertical-align:top;text-align:center;font-size:80%}"
+       "table.images th{max-width:240px}table.images img{width:240px;image-rendering:pixelated;display:block}"
+       "table.images img.scale{image-rendering:auto;margin-top:3px}.frame{position:relative;display:inline-block}"
+       ".frame .box{position:absolute;border:1px solid #0ff;box-sizing:border-box}"
        ".plot img{max-width:900px;width:100%}.note{background:#fff7d6;padding:6px}"
        ".banner{background:#ffd7d7;border:2px solid #c00;padding:8px;font-weight:bold}td.best{font-weight:bold;background:#e3f5e3}"
        "td.rel{color:#555}</style></head><body>\n";
@@ -208,35 +281,7 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
     h += fmt::format(" <code>render.frames={}</code></p>\n", s.frames);
   }
 
-  // Image grids per scene: reference, each configuration (first seed, last frame), error maps, crops.
-  h += "<h2>Images</h2>\n<p>Last frame of the first seed. Crops: the centre quarter, 4× nearest-neighbour. Error maps: "
-       + std::string(flip_available() ? "FLIP" : "relative error") + " (black = none, white = large).</p>\n";
-  std::set<std::string> scenes_done;
-  for (const auto& sc : s.scenes) {
-    if (!scenes_done.insert(sc).second) continue;
-    h += fmt::format("<h3>{}</h3>\n<div class=\"grid\">\n", esc(sc));
-    bool ref_shown = false;
-    for (const auto& c : configs) {
-      if (c.scene != sc) continue;
-      auto exists = [&](const std::string& f) { return fs::exists(out / "images" / f); };
-      if (!ref_shown && c.has_reference && exists("ref-" + c.config + ".png")) {
-        h += fmt::format("<div class=\"cell\"><b>reference</b><img src=\"images/ref-{0}.png\" alt=\"reference\">"
-                         "<img src=\"images/ref-{0}-crop.png\" alt=\"reference crop\"></div>\n",
-                         c.config);
-        ref_shown = true;
-      }
-      if (!exists(c.config + ".png")) continue;
-      h += fmt::format("<div class=\"cell\"><b>{1}</b><img src=\"images/{0}.png\" alt=\"{1}\">"
-                       "<img src=\"images/{0}-crop.png\" alt=\"crop\">",
-                       c.config, esc(values_text(c)));
-      if (exists(c.config + "-error.png"))
-        h += fmt::format("<img src=\"images/{0}-error.png\" alt=\"error map\"><img src=\"images/{0}-error-crop.png\" "
-                         "alt=\"error crop\">",
-                         c.config);
-      h += fmt::format("<a href=\"images/{}.exr\">EXR</a></div>\n", c.config);
-    }
-    h += "</div>\n";
-  }
+  h += image_tables(out, s, configs);
   h += "</body></html>\n";
   write_text_file_atomic((out / "report.html").string(), h);
 }
