@@ -337,6 +337,36 @@ TEST_CASE("restir_toy: combine() reads vouched stored targets: same reservoirs, 
   }
 }
 
+// Saturated confidences: the sum is held at kMaxConfidence and the weights stay what they would be
+// at the same ratios (the estimator only sees ratios of confidences).
+TEST_CASE("restir_toy: combine() saturates the confidence at kMaxConfidence with finite, unchanged weights") {
+  const ToyBridge toy{kDomains, false};
+  for (ReuseMis mis : kUnbiasedModes) {
+    CAPTURE(mis_name(mis));
+    Pcg32 rng(99, 1);
+    for (int t = 0; t < 200; ++t) {
+      std::array<R, 5> big, small;
+      std::array<const R*, 5> pb{}, ps{};
+      for (int i = 0; i < 5; ++i) {
+        small[size_t(i)] = ris([&](double y) { return toy.own_target(i, y); }, 4, Src::uniform, rng);
+        big[size_t(i)] = small[size_t(i)];
+        big[size_t(i)].confidence = kMaxConfidence * (i == 0 ? 1e-18f : 1.0f);  // an enormous history
+        small[size_t(i)].confidence = i == 0 ? 1e-18f : 1.0f;                  // the same ratios
+        pb[size_t(i)] = &big[size_t(i)];
+        ps[size_t(i)] = &small[size_t(i)];
+      }
+      const uint64_t state = rng.next_u32();
+      Pcg32 a(state, 1), b(state, 1);
+      const R rb = combine(toy, std::span<const R* const>(pb.data(), 5), mis, a);
+      const R rs = combine(toy, std::span<const R* const>(ps.data(), 5), mis, b);
+      REQUIRE(rb.confidence == kMaxConfidence);
+      REQUIRE(std::isfinite(rb.ucw));
+      REQUIRE(rb.sample == rs.sample);
+      REQUIRE(rb.ucw == doctest::Approx(rs.ucw).epsilon(1e-4));
+    }
+  }
+}
+
 // Invariant 2: constant MIS (m_i = M_i/ΣM) is biased exactly as the math predicts when supports
 // differ, and unbiased when all inputs cover the canonical support.
 TEST_CASE("restir_toy: constant MIS is biased with different supports, unbiased with equal ones") {

@@ -17,6 +17,7 @@
 //   // (and tracing its shadow ray): RTXDI reads the stored target pdf the same way.
 //   bool stored_target_valid(int i) const;
 #pragma once
+#include <algorithm>
 #include <span>
 
 #include "core/rng.h"
@@ -59,7 +60,7 @@ float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const
 
 // Combines inputs[0] (canonical) with inputs[1..] into a new reservoir in the canonical domain.
 // Inputs must be finalized (ucw set) and carry their (possibly capped) confidence. The output's
-// confidence is the sum of the inputs' confidences; its ucw is set.
+// confidence is the sum of the inputs' confidences, at most kMaxConfidence; its ucw is set.
 template <class Bridge, class Sample>
 Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, ReuseMis mis, Pcg32& rng,
                           CombineInfo* info = nullptr) {
@@ -67,7 +68,7 @@ Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample
   const int n = int(inputs.size());
   float m_sum = 0;
   for (const auto* r : inputs) m_sum += r->confidence;
-  out.confidence = m_sum;
+  out.confidence = std::min(m_sum, kMaxConfidence);
   if (n == 0 || !(m_sum > 0)) return out;
   const float m_c = inputs[0]->confidence, m_rest = m_sum - m_c;
   // A broken canonical reservoir stays broken (its pixel reports it); broken neighbours are skipped.
