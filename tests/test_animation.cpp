@@ -70,6 +70,26 @@ TEST_SUITE("animation") {
     fs::remove_all(d);
   }
 
+  TEST_CASE("\"repeat\" loops the keys with its period; keys beyond it and bad periods are refused") {
+    fs::path d = temp_dir("repeat");
+    write(d / "r.json", R"({"interpolation": "step", "repeat": 10,
+        "keys": [{"frame": 0, "intensity": 1}, {"frame": 5, "intensity": 0}]})");
+    const Animation a = load_animation((d / "r.json").string());
+    for (int f : {0, 4, 10, 14, 1000, 1004}) CHECK(a.intensity(f) == 1);
+    for (int f : {5, 9, 15, 19, 1005, 1009}) CHECK(a.intensity(f) == 0);
+    write(d / "m.json", R"({"repeat": 8, "keys": [{"frame": 0}, {"frame": 8, "translate": [8, 0, 0]}]})");
+    const Animation m = load_animation((d / "m.json").string());
+    CHECK(near(m.transform(3).apply_point({0, 0, 0}), {3, 0, 0}));
+    CHECK(near(m.transform(8 * 50 + 3).apply_point({0, 0, 0}), {3, 0, 0}));
+    for (const char* bad : {R"({"repeat": 4, "keys": [{"frame": 0}, {"frame": 6}]})", R"({"repeat": 0, "keys": [{"frame": 0}]})",
+                            R"({"repeat": 2.5, "keys": [{"frame": 0}]})", R"({"repeat": "x", "keys": [{"frame": 0}]})"}) {
+      CAPTURE(bad);
+      write(d / "bad.json", bad);
+      CHECK_THROWS_WITH_AS(load_animation((d / "bad.json").string()), doctest::Contains("repeat"), SceneError);
+    }
+    fs::remove_all(d);
+  }
+
   TEST_CASE("a scene's animated shapes and lights move with animate_scene; the BVH follows") {
     fs::path d = temp_dir("scene");
     write(d / "move.json", R"({"keys": [{"frame": 0}, {"frame": 4, "translate": [0, 10, 0]}]})");

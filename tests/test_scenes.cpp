@@ -380,6 +380,31 @@ TEST_CASE("scenes: dynamic-room (a light sweeps the ceiling, another switches of
   CHECK(s.meshes[size_t(animated[0])].positions[0].x == doctest::Approx(sweep0.positions[0].x));
 }
 
+TEST_CASE("scenes: blinking-room (one light on for frames 0-49 and off for 50-99 of every 100)") {
+  Scene rest = load("blinking-room");
+  REQUIRE(rest.animations.size() == 1);
+  CHECK(lights_animated(rest));
+  int animated = -1, emitters = 0;
+  for (size_t i = 0; i < rest.meshes.size(); ++i) {
+    if (rest.meshes[i].animation >= 0) animated = int(i);
+    emitters += rest.meshes[i].emission ? 1 : 0;
+  }
+  REQUIRE(animated >= 0);
+  CHECK(emitters == 2);  // the other light stands still
+  const float on = rest.meshes[size_t(animated)].emission->radiance.z;
+  REQUIRE(on > 0);
+  Scene s;
+  for (int f : {0, 49, 100, 1049, 5000}) {
+    animate_scene(rest, f, s);
+    CHECK(s.meshes[size_t(animated)].emission->radiance.z == doctest::Approx(on));
+    CHECK(s.meshes[size_t(animated)].positions[0].x == rest.meshes[size_t(animated)].positions[0].x);  // it does not move
+  }
+  for (int f : {50, 99, 150, 1099, 5050}) {
+    animate_scene(rest, f, s);
+    CHECK(s.meshes[size_t(animated)].emission->radiance.z == 0);
+  }
+}
+
 TEST_CASE("scenes: moving-glossy (a chrome teapot slides over a glossy floor)") {
   Scene rest = load("moving-glossy");
   REQUIRE(rest.animations.size() == 1);

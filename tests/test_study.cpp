@@ -17,7 +17,9 @@
 #include <thread>
 
 #include "study/images.h"
+#include "scene/loader.h"
 #include "study/plots.h"
+#include "study/references.h"
 #include "study/results.h"
 #include "study/runner.h"
 #include "study/study_file.h"
@@ -212,6 +214,8 @@ void check_outputs(const fs::path& out, const Study& s) {
       if (fs::exists(f)) CHECK_MESSAGE(fs::file_size(f) > 0, f);
     }
     CHECK_MESSAGE(html.find("<img src=\"plots/" + p.name + ".png\"") != std::string::npos, "no <img> for plot " << p.name);
+    if (p.x == "frame" && (p.y == "relmse" || p.y == "flip" || p.y == "mse"))  // each frame's error, not the last's
+      CHECK(read(out / "plots" / (p.name + ".gp")).find("of each frame") != std::string::npos);
   }
   // Images: labelled rows (the crop's among them), the crop region outlined on the full images,
   // and each error map with its colour scale.
@@ -259,6 +263,24 @@ TEST_SUITE("study") {
       CHECK(dark(x - 12, x + 12, 18, bar.height) > 4);  // its label
     }
     CHECK(dark(20, 40, 14, 18) == 0);
+  }
+
+  TEST_CASE("per-frame references are keyed by the animated state: a looping scene's alike frames share one") {
+    const Study s = load_study(find_study("m-cap-long"), true);
+    const Scene scene = load_scene(test::own_scene("blinking-room.pbrt"));  // on 0-49, off 50-99, every 100 frames
+    const Options o = make_options(s, Options{}, expand(s)[0], 0);
+    ReferenceCache cache("/nonexistent");
+    auto key = [&](int f) { return cache.describe(s, scene, "blinking-room.pbrt", "text", Options{}, o, f).key; };
+    CHECK(key(0) == key(49));
+    CHECK(key(0) == key(100));
+    CHECK(key(50) == key(99));
+    CHECK(key(50) == key(1050));
+    CHECK(key(0) != key(50));
+    // In the dynamic room the sweeping light moves every frame: every frame has its own.
+    const Scene room = load_scene(test::own_scene("dynamic-room.pbrt"));
+    auto room_key = [&](int f) { return cache.describe(s, room, "dynamic-room.pbrt", "text", Options{}, o, f).key; };
+    CHECK(room_key(3) != room_key(4));
+    CHECK(room_key(40) == room_key(41));  // after the last key everything holds
   }
 
   TEST_CASE("crop_rect is the region zoom_crop shows") {

@@ -63,6 +63,7 @@ Mat4 to_matrix(Quat q) {
 void bracket(const Animation& a, int frame, const AnimationKey*& k0, const AnimationKey*& k1, float& t) {
   k0 = k1 = &a.keys.front();
   t = 0;
+  if (a.repeat > 0) frame = ((frame % a.repeat) + a.repeat) % a.repeat;  // a loop: the frame within its period
   if (frame <= a.keys.front().frame) return;
   k0 = k1 = &a.keys.back();
   if (frame >= a.keys.back().frame) return;
@@ -150,13 +151,18 @@ Animation load_animation(const std::string& path) {
     const nlohmann::json j = nlohmann::json::parse(ss.str());
     if (!j.is_object()) throw std::runtime_error("must be a JSON object with \"keys\"");
     for (const auto& [name, value] : j.items())
-      if (name != "pivot" && name != "interpolation" && name != "keys")
-        throw std::runtime_error(fmt::format("unknown key \"{}\" (pivot, interpolation, keys)", name));
+      if (name != "pivot" && name != "interpolation" && name != "keys" && name != "repeat")
+        throw std::runtime_error(fmt::format("unknown key \"{}\" (pivot, interpolation, repeat, keys)", name));
     if (j.contains("pivot")) a.pivot = json_vec3(j["pivot"], "pivot");
     if (j.contains("interpolation")) {
       const std::string m = j["interpolation"].is_string() ? j["interpolation"].get<std::string>() : "";
       if (m != "linear" && m != "step") throw std::runtime_error("\"interpolation\" must be \"linear\" or \"step\"");
       a.step = m == "step";
+    }
+    if (j.contains("repeat")) {
+      if (!j["repeat"].is_number_integer() || j["repeat"].get<long long>() < 1 || j["repeat"].get<long long>() > 100000000)
+        throw std::runtime_error("\"repeat\" must be an integer period in frames in [1, 1e8]");
+      a.repeat = int(j["repeat"].get<long long>());
     }
     if (!j.contains("keys") || !j["keys"].is_array() || j["keys"].empty())
       throw std::runtime_error("\"keys\" must be a non-empty list");
@@ -165,6 +171,9 @@ Animation load_animation(const std::string& path) {
       if (i > 0 && a.keys[i].frame <= a.keys[i - 1].frame)
         throw std::runtime_error(fmt::format("keys[{}].frame {} must be greater than the previous key's {}", i,
                                              a.keys[i].frame, a.keys[i - 1].frame));
+      if (a.repeat > 0 && a.keys[i].frame > a.repeat)
+        throw std::runtime_error(fmt::format("keys[{}].frame {} lies beyond the \"repeat\" period {}", i, a.keys[i].frame,
+                                             a.repeat));
     }
   } catch (const nlohmann::json::exception& e) {
     throw SceneError(path, 0, std::string("invalid JSON: ") + e.what());

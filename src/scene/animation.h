@@ -6,10 +6,11 @@
 // An animation file:
 //   {"pivot": [x, y, z],                         rotation centre in world space (default origin)
 //    "interpolation": "linear" | "step",         step: hold each key until the next (switches)
+//    "repeat": N,                                optional: the keys repeat every N frames (a loop)
 //    "keys": [{"frame": 0, "translate": [x, y, z], "rotate": [degrees, ax, ay, az], "intensity": 1},
 //             ...]}
 // Keys are at frames of the sequence, in increasing order; before the first key the first holds,
-// after the last the last. Between keys translation is interpolated linearly and rotation by
+// after the last the last. With "repeat", frame f is read as f mod N, and keys lie in [0, N]. Between keys translation is interpolated linearly and rotation by
 // slerp of unit quaternions (Shoemake 1985), intensity linearly. A key's transform is applied to
 // the rest pose written in the scene: x -> translate + pivot + R (x - pivot). Intensity scales the
 // emission of animated emissive shapes and lights (0 = off).
@@ -35,6 +36,7 @@ struct Animation {
   std::string file;                 // where it was read from, for messages
   Vec3 pivot{0};
   bool step = false;                // "interpolation": "step"
+  int repeat = 0;                   // "repeat": period in frames (0 = play once)
   std::vector<AnimationKey> keys;   // at least one, frames strictly increasing
 
   // World transform (applied to the rest pose) and intensity at frame f.

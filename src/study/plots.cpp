@@ -245,13 +245,16 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
 
     // A --quick run says so on every plot: its numbers are a smoke test, not evidence.
     const std::string title = (quick ? "[--quick smoke test: not evidence] " : "") + wrap_title(p.title);
+    std::string y_label = axis_label(p.y);  // over frames, a metric is each frame's, not the last one's
+    if (const size_t at = y_label.find(" of the last frame"); p.x == "frame" && at != std::string::npos)
+      y_label.replace(at, 18, " of each frame");
     std::string gp = fmt::format(
         "# Drawn by `restir study` ({}); edit and re-run here with: gnuplot {}.gp\n"
         "set encoding utf8\nset datafile separator \"\\t\"\n"
         "set title {}\nset xlabel {}\nset ylabel {}\n"
         "set grid\nset key outside right top\nset bars small\nset offsets graph 0.04, graph 0.04, graph 0.02, graph 0.02\n",
         s.name, p.name, gp_quote(title), gp_quote(axis_label(p.x) + (p.x_metric ? ", mean over seeds" : "")),
-        gp_quote(axis_label(p.y) + " (mean ± s.e. over seeds)"));
+        gp_quote(y_label + " (mean ± s.e. over seeds)"));
     if (p.logx) gp += "set logscale x\n";
     if (p.logy) gp += "set logscale y\n";
     if (!numeric) gp += category_tics(series);

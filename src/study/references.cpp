@@ -58,7 +58,15 @@ ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const 
   text += fmt::format(" fov {:.6g}", j.camera.fov_degrees);
   if (scene_animated(scene)) {  // the scene as it is at that frame
     j.frame = frame;
-    text += fmt::format(" animation frame {}", frame);
+    // Keyed by the animated state, not the frame number: frames that look alike (a looping
+    // animation, a light that is back on) share one reference.
+    text += " animation state";
+    for (const Animation& a : scene.animations) {
+      const Mat4 m = a.transform(frame);
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) text += fmt::format(" {:.9g}", m.m[r][c]);
+      text += fmt::format(" i {:.9g}", a.intensity(frame));
+    }
   }
   j.key = hash_hex(text);
   return j;

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Period table of the long M-cap study (studies/m-cap-long.json; the blinking room, a light on for
+frames 0-49 and off for 50-99 of every 100) for docs/results/m-cap-long/RESULTS.md. Per cap:
+  - the mean per-frame relMSE in the settled part of each phase (frames 30-49: light on, 80-99:
+    light off) of period 0 and of periods 2 to the last, ± the 95% half-width over the seeds
+    (t distribution over the seeds' means);
+  - the trend over periods 2.. (least-squares slope of the settled on-phase relMSE per period,
+    per seed, then mean ± 95% half-width over the seeds): does the error keep growing?
+    scripts/mcap_long.py OUT/results.csv [--compact FILE]
+--compact writes cap,seed,frame,relmse,convergence (the columns the table reads) to FILE."""
+import csv
+import math
+import os
+import statistics as st
+import sys
+from collections import defaultdict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from study_summary import t975  # noqa: E402
+
+PERIOD, ON, OFF = 100, range(30, 50), range(80, 100)
+
+
+def ci(values):
+    m = st.mean(values)
+    h = t975(len(values) - 1) * st.stdev(values) / math.sqrt(len(values)) if len(values) > 1 else float("nan")
+    return m, h
+
+
+def slope(ys):
+    xs = range(len(ys))
+    mx, my = st.mean(xs), st.mean(ys)
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+
+
+def main(path, compact=None):
+    err = defaultdict(dict)  # (cap, seed) -> frame -> relmse
+    rows = list(csv.DictReader(open(path)))
+    for r in rows:
+        err[(int(float(r["di.max_history"])), r["seed"])][int(r["frame"])] = float(r["relmse"])
+    if compact:
+        with open(compact, "w") as f:
+            f.write("cap,seed,frame,relmse,convergence\n")
+            for r in rows:
+                conv = "%.5g" % float(r["convergence"]) if r["convergence"] else ""
+                f.write("%s,%s,%s,%.5g,%s\n" % (r["di.max_history"], r["seed"], r["frame"], float(r["relmse"]), conv))
+    caps = sorted({c for c, _ in err}, key=lambda c: (c != 0, c))
+    periods = (max(max(fr) for fr in err.values()) + 1) // PERIOD
+    print("| cap | on, period 0 | on, periods 2-%d | off, period 0 | off, periods 2-%d | on-phase slope per period, periods 2-%d |"
+          % (periods - 1, periods - 1, periods - 1))
+    print("|---|---|---|---|---|---|")
+    for cap in caps:
+        seeds = sorted(s for c, s in err if c == cap)
+
+        def phase(s, p, frames):
+            return st.mean(err[(cap, s)][p * PERIOD + f] for f in frames)
+        cells = []
+        for frames in (ON, OFF):
+            for ps in ([0], range(2, periods)):
+                cells.append("%.4f ± %.4f" % ci([st.mean(phase(s, p, frames) for p in ps) for s in seeds]))
+        cells = [cells[0], cells[1], cells[2], cells[3]]
+        trend = ci([slope([phase(s, p, ON) for p in range(2, periods)]) for s in seeds])
+        print("| %s | %s | %+.4f ± %.4f |" % ("none" if cap == 0 else cap, " | ".join(cells), trend[0], trend[1]))
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    compact = None
+    if "--compact" in args:
+        i = args.index("--compact")
+        compact = args[i + 1]
+        del args[i:i + 2]
+    if len(args) != 1:
+        sys.exit(__doc__)
+    main(args[0], compact)
