@@ -18,6 +18,9 @@ struct PlantedBias {
   // ReSTIR DI in an animated scene: tests the history's visibility in this frame's BVH instead of
   // the previous frame's (the approximation before issue 11's fix; -5 to -17% behind a fast occluder).
   bool history_visibility_now = false;
+  // ReSTIR GI in an animated scene: the history keeps its cached radiance and position, evaluated in
+  // this frame's scene (what a GI without issue 11's replay would do: a switched-off light's ghost).
+  bool gi_history_cached = false;
 };
 
 }  // namespace rl

@@ -10,14 +10,22 @@ namespace rl::restir {
 // eq. 11; Lin et al. 2022 eq. 52):
 //   |cos φ_y| / |cos φ_x| · |x_k − x_prev|² / |x_k − y_prev|²,
 // φ the angles at x_k between n_k and the segments to y_prev and x_prev. 0 when degenerate.
-RESTIR_HD inline float reconnection_jacobian(Vec3 x_prev, Vec3 y_prev, Vec3 x_k, Vec3 n_k) {
-  const Vec3 to_x = x_prev - x_k, to_y = y_prev - x_k;
+//
+// The moved form: between two frames x_k is carried by a rigid motion from x_k (normal n_k, seen
+// from x_prev) to y_k (normal m_k, seen from y_prev). A rigid motion keeps area, so the Jacobian
+// still passes through dA at x_k: |∂ω_y/∂ω_x| = (|cos φ_y| / |y_k − y_prev|²) · (|x_k − x_prev|² / |cos φ_x|).
+RESTIR_HD inline float moved_reconnection_jacobian(Vec3 x_prev, Vec3 x_k, Vec3 n_k, Vec3 y_prev, Vec3 y_k, Vec3 m_k) {
+  const Vec3 to_x = x_prev - x_k, to_y = y_prev - y_k;
   const float dx2 = length_squared(to_x), dy2 = length_squared(to_y);
   if (!(dx2 > 0) || !(dy2 > 0)) return 0;
   const float cos_x = std::fabs(dot(n_k, to_x)) / std::sqrt(dx2);
-  const float cos_y = std::fabs(dot(n_k, to_y)) / std::sqrt(dy2);
+  const float cos_y = std::fabs(dot(m_k, to_y)) / std::sqrt(dy2);
   if (!(cos_x > 0)) return 0;
   return (cos_y / cos_x) * (dx2 / dy2);
+}
+
+RESTIR_HD inline float reconnection_jacobian(Vec3 x_prev, Vec3 y_prev, Vec3 x_k, Vec3 n_k) {
+  return moved_reconnection_jacobian(x_prev, x_k, n_k, y_prev, x_k, n_k);
 }
 
 }  // namespace rl::restir
