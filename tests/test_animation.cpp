@@ -379,7 +379,7 @@ TEST_SUITE("slow_dynamic") {
     const fs::path d = temp_dir("gi-room");
     const Scene rest = load_scene(lambertian_dynamic_room(d));
     const Options o = dynamic_room_gi(rest);
-    auto gi = frame_blocks(rest, o, {8, 11}, 600, 11000);
+    auto gi = frame_blocks(rest, o, {8, 11}, 300, 11000);
     for (int f : {8, 11}) {
       const auto ref = frozen_reference(rest, o, f, 2048, 8);
       const test::EquivalenceReport rep = compare_frame(gi[f], ref, "restir-gi frame " + std::to_string(f));
