@@ -83,12 +83,12 @@ RESTIR_HD inline float resampling_weight(float mis_weight, float target, float u
 }
 
 // The largest confidence a reuse pass hands on. Confidence weights may be any positive numbers
-// that every MIS evaluation of one combine() reads alike (GRIS, Lin et al. 2022 §5.3: the weights
-// only need to sum to one), so saturating them leaves the estimator unbiased. It keeps the
-// products in the MIS weights (M · p̂) inside float range: without an M-cap, spatial reuse makes
-// M grow geometrically (about 1.3x a frame in the dynamic room), and it overflowed to infinity
-// after ~330 frames, turning pixels into NaN. At 1e20 the newest candidates' share of such a
-// history, ~1e-19, is nil either way.
+// that every MIS evaluation of one combine() reads alike: the MIS weights built from them only
+// need to sum to one (GRIS, Lin et al. 2022, eqs. 19-20), so saturating them leaves the estimator
+// unbiased. It keeps the products in the MIS weights (M · p̂) inside float range: without an
+// M-cap, spatial reuse makes M grow geometrically (about 1.3x a frame in the dynamic room), and it
+// overflowed to infinity after ~270-340 frames, turning pixels into NaN. At 1e20 the newest
+// candidates' share of such a history, ~1e-19, is nil either way.
 inline constexpr float kMaxConfidence = 1e20f;
 
 // M-capping (Bitterli et al. 2020 §6; thesis §4.2.4): a reused history reservoir keeps at most
