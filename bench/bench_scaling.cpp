@@ -3,7 +3,8 @@
 // scripts/gen_teapot_field.py), the load time, the BVH builds (Embree's two-level scene, and the
 // CUDA backend's own SAH BVH), the light tables, and ms/frame of pt (1 spp) and restir-di
 // (defaults, median of the frames after the first) at 640x360 -- and of pt on the CUDA backend
-// where a GPU is present. Prints a Markdown table.
+// where a GPU is present. Prints a Markdown table; then, on many-lights, frame time against pixels
+// (320x180 .. 1280x720) and against threads (1, 2), and the bytes of ReSTIR state per pixel.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -12,6 +13,9 @@
 #include "backends/bvh.h"
 #include "backends/cuda/cuda_queries.h"
 #include "bench_common.h"
+#include "integrators/di_kernel.h"
+#include "integrators/gbuffer.h"
+#include "integrators/pt_path.h"
 #include "integrators/render.h"
 #include "scene/accel.h"
 #include "scene/lights.h"
@@ -28,6 +32,42 @@ double frame_ms(const Scene& scene, Options o, const char* integrator, int frame
   o.render.frames = frames;
   o.render.backend = backend;
   return bench::median(render(scene, o).frame_ms, frames > 1 ? 1 : 0);
+}
+// Frame time against pixels and threads (restir-di and pt, `frames` frames, median after the
+// first), and ms per megapixel: linear scaling keeps that column flat.
+void pixel_and_thread_scaling(const Scene& scene, int frames) {
+  Options base;
+  apply_scene_hints(base, scene.hints);
+  base.render.spp = 1;
+  const std::vector<std::pair<int, int>> sizes = {{320, 180}, {640, 360}, {1280, 720}};
+  fmt::print("\n| integrator | 320x180 ms | 640x360 ms | 1280x720 ms | ms per Mpixel (each) | 640x360, 1 thread ms | 2 threads ms | "
+             "speed-up |\n|---|---|---|---|---|---|---|---|\n");
+  for (const char* integrator : {"pt", "restir-di"}) {
+    std::vector<double> ms;
+    std::string per_mpixel;
+    for (auto [w, h] : sizes) {
+      Options o = base;
+      o.film.width = w, o.film.height = h;
+      ms.push_back(frame_ms(scene, o, integrator, frames));
+      per_mpixel += fmt::format("{}{:.0f}", per_mpixel.empty() ? "" : " / ", ms.back() / (double(w) * h * 1e-6));
+    }
+    Options o = base;
+    o.film.width = 640, o.film.height = 360;
+    o.render.threads = 1;
+    const double one = frame_ms(scene, o, integrator, frames);
+    o.render.threads = 2;
+    const double two = frame_ms(scene, o, integrator, frames);
+    fmt::print("| {} | {:.0f} | {:.0f} | {:.0f} | {} | {:.0f} | {:.0f} | {:.2f}x |\n", integrator, ms[0], ms[1], ms[2], per_mpixel,
+               one, two, one / two);
+  }
+  // What a ReSTIR frame keeps per pixel (and spp chain): this frame's and last frame's reservoirs
+  // plus the pass's output buffer, this frame's and last frame's G-buffer surfaces, and the debug
+  // counters (source, tried, rejected).
+  const size_t surface = 2 * sizeof(GSurface), debug = sizeof(uint8_t) + 2 * sizeof(uint16_t);
+  const size_t di = sizeof(restir::Reservoir<LightPoint>), pt = sizeof(PathReservoir);
+  fmt::print("\nReSTIR state per pixel: restir-di {} bytes (reservoir {} x 3, G-buffer surface {} x 2, debug {}); "
+             "restir-pt {} bytes (reservoir {} x 3, the same surfaces and debug)\n",
+             3 * di + surface + debug, di, sizeof(GSurface), debug, 3 * pt + surface + debug, pt);
 }
 }  // namespace
 
@@ -71,5 +111,6 @@ int main(int argc, char** argv) {
     fmt::print("\n");
   }
   fmt::print("({}x{}, 1 spp; {})\n", width, height, gpu ? cuda_device_description() : "no GPU: " + cuda_unavailable_reason());
+  pixel_and_thread_scaling(load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"), frames);
   return 0;
 }
