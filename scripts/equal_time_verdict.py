@@ -15,13 +15,7 @@ import statistics as st
 import sys
 from collections import defaultdict
 
-from study_summary import t975  # this folder
-
-
-def ci(v):
-    m = st.mean(v)
-    h = t975(len(v) - 1) * st.stdev(v) / math.sqrt(len(v)) if len(v) > 1 else float("nan")
-    return m, h
+from study_summary import mean_ci as ci  # this folder
 
 
 def label(r):

@@ -9,22 +9,15 @@ frames 0-49 and off for 50-99 of every 100) for docs/results/m-cap-long/RESULTS.
     scripts/mcap_long.py OUT/results.csv [--compact FILE]
 --compact writes cap,seed,frame,relmse,convergence (the columns the table reads) to FILE."""
 import csv
-import math
 import os
 import statistics as st
 import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from study_summary import t975  # noqa: E402
+from study_summary import mean_ci as ci  # noqa: E402
 
 PERIOD, ON, OFF = 100, range(30, 50), range(80, 100)
-
-
-def ci(values):
-    m = st.mean(values)
-    h = t975(len(values) - 1) * st.stdev(values) / math.sqrt(len(values)) if len(values) > 1 else float("nan")
-    return m, h
 
 
 def slope(ys):

@@ -6,14 +6,13 @@ frames after frame 8 until the relMSE (mean over seeds) is first within 10% of i
 frames 15-19 (the steady level with the light off).
     scripts/mcap_phases.py OUT/results.csv CAP_KEY        (e.g. di.max_history, pt.max_history)"""
 import csv
-import math
 import os
 import statistics as st
 import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from study_summary import t975  # noqa: E402
+from study_summary import mean_ci  # noqa: E402
 
 PHASES = [("frames 1-7 (light sweeping)", range(1, 8)), ("frames 15-19 (one light off)", range(15, 20)),
           ("frames 25-31", range(25, 32))]
@@ -21,9 +20,7 @@ SWITCH, STEADY = 8, range(15, 20)
 
 
 def ci(values):
-    m = st.mean(values)
-    h = t975(len(values) - 1) * st.stdev(values) / math.sqrt(len(values)) if len(values) > 1 else float("nan")
-    return "%.4f ± %.4f" % (m, h)
+    return "%.4f ± %.4f" % mean_ci(values)
 
 
 def lag(per_frame):

@@ -17,6 +17,13 @@ def t975(dof):
     return T975[min(max(dof, 1), len(T975)) - 1]
 
 
+def mean_ci(v):
+    """Mean and 95% confidence half-width (t distribution) of the values; NaN width for one value."""
+    m = st.mean(v)
+    h = t975(len(v) - 1) * st.stdev(v) / math.sqrt(len(v)) if len(v) > 1 else float("nan")
+    return m, h
+
+
 def cell(v):
     v = [x for x in v if not math.isnan(x)]
     if not v:
