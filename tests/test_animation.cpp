@@ -304,6 +304,18 @@ test::EquivalenceReport compare_frame(const std::vector<test::BlockMeans>& runs,
 
 // ReSTIR PT in the dynamic room: random replay (unbiased across frames), paths of up to 3
 // segments, the DI test's film and sample pattern.
+// `runs` sequences of o, each of `frames` against 8 renders of its frozen scene at ref_spp (CI
+// tier); the reports read "<label>frame F".
+void check_frames_match(const Scene& rest, const Options& o, const std::vector<int>& frames, int runs, uint64_t seed_base,
+                        int ref_spp, const std::string& label) {
+  auto blocks = frame_blocks(rest, o, frames, runs, seed_base);
+  for (int f : frames) {
+    const auto ref = frozen_reference(rest, o, f, ref_spp, 8);
+    const test::EquivalenceReport rep = compare_frame(blocks[f], ref, label + "frame " + std::to_string(f));
+    CHECK(rep.pass());
+  }
+}
+
 Options dynamic_room_pt(const Scene& rest, const char* history_scene) {
   Options o = dynamic_room_di(rest, "previous");
   o.integrator = "restir-pt";
@@ -322,13 +334,7 @@ TEST_SUITE("slow_dynamic") {
     // path tracer on the scene frozen at that frame (equivalence, tests/equivalence.h).
     const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
     const Options o = dynamic_room_di(rest, "previous");
-    const int runs = 300;
-    auto di = frame_blocks(rest, o, {8, 11}, runs, 5000);
-    for (int f : {8, 11}) {
-      const auto ref = frozen_reference(rest, o, f, 512, 8);
-      const test::EquivalenceReport rep = compare_frame(di[f], ref, "frame " + std::to_string(f));
-      CHECK(rep.pass());
-    }
+    check_frames_match(rest, o, {8, 11}, 300, 5000, 512, "");
   }
 
   TEST_CASE("di.history_scene = current is biased in the dynamic room, and the harness sees it") {
@@ -379,12 +385,7 @@ TEST_SUITE("slow_dynamic") {
     const fs::path d = temp_dir("gi-room");
     const Scene rest = load_scene(lambertian_dynamic_room(d));
     const Options o = dynamic_room_gi(rest);
-    auto gi = frame_blocks(rest, o, {8, 11}, 300, 11000);
-    for (int f : {8, 11}) {
-      const auto ref = frozen_reference(rest, o, f, 2048, 8);
-      const test::EquivalenceReport rep = compare_frame(gi[f], ref, "restir-gi frame " + std::to_string(f));
-      CHECK(rep.pass());
-    }
+    check_frames_match(rest, o, {8, 11}, 300, 11000, 2048, "restir-gi ");
     // The history's cached radiance in this frame's scene (no replay): the light switched off at
     // frame 8 leaves its ghost, and the same test sees it.
     PlantedBias cached;
@@ -400,12 +401,7 @@ TEST_SUITE("slow_dynamic") {
     // The history's paths are re-traced in the previous frame's scene for the MIS weights.
     const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
     const Options o = dynamic_room_pt(rest, "previous");
-    auto pt = frame_blocks(rest, o, {8, 11}, 1000, 9000);
-    for (int f : {8, 11}) {
-      const auto ref = frozen_reference(rest, o, f, 2048, 8);
-      const test::EquivalenceReport rep = compare_frame(pt[f], ref, "restir-pt frame " + std::to_string(f));
-      CHECK(rep.pass());
-    }
+    check_frames_match(rest, o, {8, 11}, 1000, 9000, 2048, "restir-pt ");
   }
 
   TEST_CASE("pt.history_scene = current is biased in the dynamic room, and the harness sees it") {
