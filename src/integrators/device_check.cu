@@ -36,7 +36,7 @@ __global__ void device_compile_check(PathWorld w, BvhView bvh, PerspectiveCamera
   acc += float(bsdf_sample(g.bsdf, Vec3(0, 0, 1), 0.5f, Vec2(0.3f, 0.3f), bs)) + bsdf_pdf(g.bsdf, Vec3(0, 0, 1), bs.wi) +
          luminance(bsdf_eval(g.bsdf, Vec3(0, 0, 1), bs.wi)) + bsdf_roughness(g.bsdf);
   // ReSTIR DI's integrand, shadow ray and light density at the G-buffer surface.
-  const LightPoint lp{ls.position, ls.normal, ls.emitter};
+  const LightPoint lp{ls.position, ls.emitter};
   Ray shadow;
   acc += luminance(di_unshadowed(L, g, lp, w.ray_epsilon, &shadow)) + shadow.tmax;
   di_detail::LightView v;

@@ -7,9 +7,11 @@
 
 namespace rl {
 
+// 16 bytes: the point's normal is not stored but derived from its emitter (LightsView::normal_at),
+// so that a ReSTIR DI reservoir is 32 bytes, the size of RTXDI's packed reservoir (Wyman and
+// Panteleev 2021, §5; RTXDI's RTXDI_PackedDIReservoir).
 struct LightPoint {
   Vec3 position;               // on the emitter; the direction itself for the environment
-  Vec3 normal;                 // emitter geometric normal (zero for point lights / environment)
   uint32_t emitter = kNoEmitter;
 };
 
@@ -22,6 +24,7 @@ namespace di_detail {
 // per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
 struct LightView {
   Vec3 wi, wi_l;
+  Vec3 n;  // the emitter's geometric normal at y (LightsView::normal_at; zero for points and the environment)
   Rgb le{0};
   float g = 0;
 };
@@ -48,8 +51,9 @@ RESTIR_HD inline bool view_light(const LightsView& lights, const GSurface& s, co
       const float d2 = length_squared(d);
       if (!(d2 > 0)) return false;
       v.wi = d / std::sqrt(d2);
-      v.le = lights.emitted(y.emitter, y.normal, -v.wi);
-      v.g = std::fabs(dot(y.normal, v.wi)) / d2;
+      v.n = lights.normal_at(y.emitter, y.position);
+      v.le = lights.emitted(y.emitter, v.n, -v.wi);
+      v.g = std::fabs(dot(v.n, v.wi)) / d2;
       break;
     }
   }
@@ -70,7 +74,7 @@ RESTIR_HD inline Ray di_shadow_ray(const LightsView& lights, const GSurface& s, 
   switch (lights.kind(y.emitter)) {
     case LightKind::environment: return spawn_ray(s.p, s.ng, v.wi, eps);
     case LightKind::point: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
-    default: return spawn_ray_to(s.p, s.ng, y.position, y.normal, eps);
+    default: return spawn_ray_to(s.p, s.ng, y.position, v.n, eps);
   }
 }
 
@@ -78,7 +82,7 @@ RESTIR_HD inline Ray di_shadow_ray(const LightsView& lights, const GSurface& s, 
 // density), in y's sample measure.
 RESTIR_HD inline float light_density(const LightsView& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
   if (lights.kind(y.emitter) == LightKind::point) return lights.selection_pmf(y.emitter);
-  return lights.pdf(y.emitter, s.p, y.position, y.normal) * v.g;
+  return lights.pdf(y.emitter, s.p, y.position, v.n) * v.g;
 }
 
 }  // namespace di_detail

@@ -86,7 +86,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     if (!env_tile.empty() && e == ctx.lights.environment_emitter()) {  // a presampled direction (LightTiles)
       const EnvTileEntry& en = env_tile[std::min(env_tile.size() - 1, size_t(u.x * float(env_tile.size())))];
       if (!(en.pdf > 0)) continue;
-      const LightPoint y{en.direction, Vec3(0), e};
+      const LightPoint y{en.direction, e};
       LightView v;
       v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s.frame.to_local(v.wi);
       const float t = is_black(v.le) ? 0.0f : luminance(di_value(s, wo_l, v));
@@ -95,7 +95,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     }
     LightSample ls;
     if (!ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
-    const LightPoint y{ls.position, ls.normal, e};
+    const LightPoint y{ls.position, e};
     LightView v;
     const float t = view_light(ctx.lights, s, y, v) ? luminance(di_value(s, wo_l, v)) : 0.0f;
     // sample_emitter's solid-angle density times the selection pmf, in y's sample measure.
@@ -115,7 +115,6 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
       SurfaceInteraction si = ctx.accel.interaction(Ray{s.p, wi}, hit);
       y.emitter = si.is_sphere ? ctx.lights.sphere_emitter(si.prim) : ctx.lights.triangle_emitter(si.geom, si.prim);
       y.position = si.p;
-      y.normal = si.ng;
     } else if (ctx.lights.has_environment()) {
       y.emitter = ctx.lights.environment_emitter();
       y.position = wi;

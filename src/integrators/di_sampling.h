@@ -15,6 +15,8 @@ namespace rl {
 
 
 using DiReservoir = restir::Reservoir<LightPoint>;
+// RTXDI's packed DI reservoir is 32 bytes (issue 9: ours must be no larger).
+static_assert(sizeof(DiReservoir) <= 32, "ReSTIR DI's reservoir outgrew RTXDI's 32 bytes");
 
 // One pre-selected emitter of a light tile and its selection probability.
 struct LightTileEntry {

@@ -39,7 +39,8 @@ struct DiBridge {
   bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
     x = y;
     jacobian = 1;
-    if (i == 1 && history_lights) return ctx->lights.follow(y.emitter, *history_lights, x.position, x.normal);
+    Vec3 normal;  // follow's; a LightPoint derives its normal from its emitter
+    if (i == 1 && history_lights) return ctx->lights.follow(y.emitter, *history_lights, x.position, normal);
     return true;
   }
   // A reservoir's target is di_target at its own surface with the canonical visibility flag: the
@@ -52,7 +53,8 @@ struct DiBridge {
   float target_from(int i, const LightPoint& x) const {
     if (i == 1 && history_in_previous && (history_lights || history)) {
       LightPoint back = x;  // where x was one frame earlier
-      if (history_lights && !history_lights->follow(x.emitter, ctx->lights, back.position, back.normal)) return 0;
+      Vec3 normal;
+      if (history_lights && !history_lights->follow(x.emitter, ctx->lights, back.position, normal)) return 0;
       return di_target(history ? *history : *ctx, history_lights ? *history_lights : ctx->lights, *surfaces[1], back,
                        other_visibility);
     }

@@ -59,10 +59,11 @@ bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const 
 template <class Sample, class MakeBridge>
 void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& previous_g, const PerspectiveCamera& previous_camera,
                    std::vector<restir::Reservoir<Sample>>& reservoirs, const std::vector<restir::Reservoir<Sample>>& history,
-                   const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
+                   std::vector<restir::Reservoir<Sample>>& next, const MakeBridge& make_bridge, uint32_t frame, uint64_t seed,
+                   uint32_t chain, ReuseDebug& dbg) {
   using Res = restir::Reservoir<Sample>;
   const int w = g.width, h = g.height;
-  std::vector<Res> next(reservoirs.size());
+  next.resize(reservoirs.size());  // the chain's scratch buffer: allocated once per frame size
   parallel_for_pixels(w, h, [&](int x, int y) {
     const uint32_t p = uint32_t(y * w + x);
     const GSurface& cur = g.at(x, y);
@@ -104,12 +105,13 @@ void temporal_pass(const ReuseOptions& rp, const GBuffer& g, const GBuffer& prev
 // pixels on a rotated golden-angle spiral within spatial_radius (reading one buffer, writing the other).
 template <class Sample, class MakeBridge>
 void spatial_passes(const ReuseOptions& rp, const GBuffer& g, std::vector<restir::Reservoir<Sample>>& reservoirs,
-                    const MakeBridge& make_bridge, uint32_t frame, uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
+                    std::vector<restir::Reservoir<Sample>>& next, const MakeBridge& make_bridge, uint32_t frame,
+                    uint64_t seed, uint32_t chain, ReuseDebug& dbg) {
   using Res = restir::Reservoir<Sample>;
   const int w = g.width, h = g.height;
   const int k = std::min(rp.spatial_neighbors, kMaxReuseNeighbors);
   for (int round = 0; k > 0 && round < rp.spatial_rounds; ++round) {
-    std::vector<Res> next(reservoirs.size());
+    next.resize(reservoirs.size());  // the chain's scratch buffer (every pixel is written below)
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
       const GSurface& cur = g.at(x, y);
@@ -152,6 +154,7 @@ template <class Sample>
 struct ReservoirChain {
   GBuffer gbuffer, previous_gbuffer;
   std::vector<restir::Reservoir<Sample>> reservoirs, previous;
+  std::vector<restir::Reservoir<Sample>> scratch;  // a reuse pass's output, swapped with reservoirs
   bool has_history = false;
   ReuseDebug debug;
 
@@ -169,10 +172,10 @@ struct ReservoirChain {
     const PerspectiveCamera& prev_cam = frame.previous_camera ? *frame.previous_camera : *frame.camera;
     if (rp.temporal && has_history && previous_gbuffer.width == gbuffer.width && previous_gbuffer.height == gbuffer.height) {
       StageTimer timer(frame.stages, "temporal");
-      temporal_pass(rp, gbuffer, previous_gbuffer, prev_cam, reservoirs, previous, make_bridge, f, seed, chain, debug);
+      temporal_pass(rp, gbuffer, previous_gbuffer, prev_cam, reservoirs, previous, scratch, make_bridge, f, seed, chain, debug);
     }
     StageTimer timer(frame.stages, "spatial");
-    spatial_passes(rp, gbuffer, reservoirs, make_bridge, f, seed, chain, debug);
+    spatial_passes(rp, gbuffer, reservoirs, scratch, make_bridge, f, seed, chain, debug);
   }
   // Keeps this frame's reservoirs and surfaces for the next frame's temporal reuse.
   void end_frame() {

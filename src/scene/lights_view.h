@@ -207,6 +207,11 @@ struct LightsView {
   RESTIR_HD float environment_pdf(Vec3 dir) const;
   RESTIR_HD Rgb environment_radiance(Vec3 dir) const;
   RESTIR_HD Rgb emitted(uint32_t emitter, Vec3 n, Vec3 w) const;
+  // The geometric normal of emitter e at a point `position` on it, the normal its sampling and a
+  // ray hitting it report: a triangle's e.n, a sphere's outward (or, flipped, inward) radial unit
+  // vector; zero for point lights and the environment. Lets a light point be stored without its
+  // normal (ReSTIR DI's 32-byte reservoir, RTXDI's packed reservoir keeps no normal either).
+  RESTIR_HD Vec3 normal_at(uint32_t emitter, Vec3 position) const;
 
  private:
   // Radiance and unselected solid-angle pdf of the texel a world direction looks up, in one go.

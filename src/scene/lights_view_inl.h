@@ -23,6 +23,21 @@ RESTIR_HD inline Rgb LightsView::emitted(uint32_t emitter, Vec3 n, Vec3 w) const
   return Rgb(0);
 }
 
+RESTIR_HD inline Vec3 LightsView::normal_at(uint32_t emitter, Vec3 position) const {
+  if (emitter >= num_emitters) return Vec3(0);
+  const LightEmitter& e = emitters[emitter];
+  switch (e.kind) {
+    case LightKind::triangle: return e.n;
+    case LightKind::sphere: {
+      const Vec3 d = position - e.p0;
+      const float len = length(d);
+      if (!(len > 0)) return Vec3(0);
+      return e.flip ? d / -len : d / len;
+    }
+    default: return Vec3(0);
+  }
+}
+
 RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPoint& out) const {
   out = {};
   if (selection.size == 0) return false;
