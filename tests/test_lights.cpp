@@ -443,3 +443,39 @@ TEST_CASE("lights: light-sampled irradiance from a large map is unbiased") {
   }
   CHECK(sum / n == doctest::Approx(exact).epsilon(0.002));
 }
+
+// ReSTIR DI stores a light point without its normal (a 32-byte reservoir) and derives it with
+// normal_at: that must be the normal the sampler reported, for every kind, from outside and
+// inside a sphere, and for a flipped (inward-emitting) sphere.
+TEST_CASE("lights: normal_at gives the normal sample_emitter reported at the same point") {
+  Scene s = test_scene(EnvironmentLight::Mapping::equirect);
+  Sphere flipped;
+  flipped.center = {-3, 2, 4};
+  flipped.radius = 1.5f;
+  flipped.emission = AreaEmission{Rgb(1), true};
+  flipped.flip_normal = true;
+  s.spheres.push_back(flipped);
+  Lights lights(s, LightSelection::uniform);
+  const LightsView view = lights.view();
+  Pcg32 rng(11);
+  int checked = 0, spheres = 0;
+  const Vec3 points[] = {{0, 0, 0}, {2.5f, 0.2f, -1}, {-3, 2.5f, 4}, {-6, 2, 4}};  // inside each sphere too
+  for (const Vec3 p : points) {
+    for (uint32_t e = 0; e < lights.emitter_count(); ++e) {
+      for (int i = 0; i < 200; ++i) {
+        LightSample ls;
+        if (!view.sample_emitter(e, p, rng.next_2d(), ls)) continue;
+        const Vec3 n = view.normal_at(e, ls.position);
+        if (lights.kind(e) == Lights::Kind::point || lights.kind(e) == Lights::Kind::environment) {
+          CHECK(n == Vec3(0));
+          continue;
+        }
+        ++checked;
+        spheres += lights.kind(e) == Lights::Kind::sphere;
+        CHECK(length(n - ls.normal) < 1e-5f);
+      }
+    }
+  }
+  CHECK(checked > 2000);
+  CHECK(spheres > 500);
+}
