@@ -480,6 +480,7 @@ TEST_SUITE("study") {
     for (const auto& r : t.rows) {
       CHECK(std::stod(r[size_t(t.col("relmse"))]) > 0);
       CHECK(std::stod(r[size_t(t.col("noise"))]) > 0);
+      CHECK(std::stod(r[size_t(t.col("ref_relmse"))]) > 0);  // the reference's own error (references.h)
     }
     CHECK(t.rows[0][size_t(t.col("noise"))] == t.rows[1][size_t(t.col("noise"))]);
     // One reference (both radii share scene, film, depth), written once.

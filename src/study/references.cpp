@@ -1,12 +1,17 @@
 #include "study/references.h"
 
+#include <array>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
 
 #include "core/build_info.h"
 #include "core/file_lock.h"
+#include "core/rng.h"
 #include "image/image_io.h"
+#include "image/metrics.h"
 #include "integrators/render.h"
 #include "scene/animation.h"
 #include "scene/camera.h"
@@ -22,6 +27,53 @@ Camera camera_of(const Scene& scene, const Options& o) {
   if (c.keys.empty()) c.keys.push_back(CameraKey{});
   return c;
 }
+constexpr const char* kHalvesKey = "restir.reference_halves_spp";
+constexpr const char* kOwnErrorKey = "restir.reference_relmse";
+
+struct Halves {
+  Image mean;
+  double own_error = std::numeric_limits<double>::quiet_NaN();
+  std::array<int, 2> spp{0, 0};
+};
+
+// The reference as two independent renders (references.h): the second half's seed is derived
+// from the first, so a study's reference.seed still names the whole reference.
+Halves render_halves(const Scene& scene, const Options& o) {
+  Halves h;
+  const int n = o.render.spp, na = n - n / 2, nb = n / 2;
+  h.spp = {na, nb};
+  Options a = o, b = o;
+  a.render.spp = na;
+  b.render.spp = nb;
+  b.render.seed = mix64(o.render.seed ^ 0x243f6a8885a308d3ULL) & 0x7fffffffffffffffULL;
+  RenderResult ra = render(scene, a, {});
+  if (nb == 0) {
+    h.mean = std::move(ra.last);
+    return h;
+  }
+  const RenderResult rb = render(scene, b, {});
+  h.mean = Image(ra.last.width, ra.last.height);
+  Image shifted = h.mean;  // mean + (A − B): rel_mse(shifted, mean) = mean of (A − B)² / (mean² + eps)
+  const float wa = float(na) / float(n), wb = float(nb) / float(n);
+  for (size_t i = 0; i < h.mean.size(); ++i) {
+    h.mean.pixels[i] = ra.last.pixels[i] * wa + rb.last.pixels[i] * wb;
+    shifted.pixels[i] = h.mean.pixels[i] + (ra.last.pixels[i] - rb.last.pixels[i]);
+  }
+  h.own_error = rel_mse(shifted, h.mean) * double(na) * double(nb) / (double(n) * double(n));
+  return h;
+}
+
+// The estimate in a reference's header; NaN when absent or not a number ("nan" for 1 spp).
+double read_own_error(const std::string& exr) {
+  for (const auto& [k, v] : read_exr_metadata(exr)) {
+    if (k != kOwnErrorKey) continue;
+    char* end = nullptr;
+    const double e = std::strtod(v.c_str(), &end);
+    if (end != v.c_str() && *end == '\0') return e;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 bool sequence_moves(const Scene& scene, const Options& o) {
@@ -52,7 +104,7 @@ ReferenceJob ReferenceCache::describe(const Study& s, const Scene& scene, const 
   r.output = OutputOptions{};  // the display transform is not part of the reference
   j.options = r;
   j.camera = camera_at(scene, o, frame);
-  std::string text = non_default_options(r) + scene_as_written + "\n" + scene_file_text + "\ncamera";
+  std::string text = non_default_options(r) + scene_as_written + "\n" + scene_file_text + "\nhalves 2\ncamera";
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) text += fmt::format(" {:.6g}", j.camera.camera_from_world.m[a][b]);
   text += fmt::format(" fov {:.6g}", j.camera.fov_degrees);
@@ -86,15 +138,28 @@ const Image& ReferenceCache::get(const ReferenceJob& job, const Scene& scene) {
   FileLock lock_file((locks / (job.key + ".lock")).string());
   if (fs::exists(p)) {
     ++reused_;
+    errors_[job.key] = read_own_error(p);
     return images_[job.key] = read_image(p);
   }
   Scene moved = scene_animated(scene) ? scene_at_frame(scene, job.frame) : scene;  // the frame, static
   moved.camera.keys = {job.camera};
-  RenderResult res = render(moved, job.options, {});
-  write_exr(p, res.last,
-            {{"restir.version", build_id()}, {"restir.config", options_to_json(job.options, -1)}, {"restir.reference", "1"}});
+  Halves halves = render_halves(moved, job.options);
+  // The estimate travels in the image's own header: written with it, atomically.
+  write_exr(p, halves.mean,
+            {{"restir.version", build_id()},
+             {"restir.config", options_to_json(job.options, -1)},
+             {"restir.reference", "1"},
+             {kHalvesKey, fmt::format("{} {}", halves.spp[0], halves.spp[1])},
+             {kOwnErrorKey, fmt::format("{:.17g}", halves.own_error)}});
   ++rendered_;
-  return images_[job.key] = std::move(res.last);
+  errors_[job.key] = halves.own_error;
+  return images_[job.key] = std::move(halves.mean);
+}
+
+double ReferenceCache::own_error(const std::string& key) const {
+  std::lock_guard lock(mutex_);
+  auto it = errors_.find(key);
+  return it == errors_.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
 }
 
 }  // namespace rl::study

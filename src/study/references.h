@@ -8,6 +8,15 @@
 // reference.spp samples,
 // reference.seed, one frame rendered with the camera of the frame being compared; every other
 // option at its default (scene hints applied), then the study's reference.options.
+//
+// A reference is rendered as two independent halves (reference.seed and a second seed, ⌈N/2⌉ and
+// ⌊N/2⌋ spp) and saved as their spp-weighted mean, so that its own error can be estimated at no
+// extra cost: for independent unbiased halves A, B with per-pixel variances σ²/n_A, σ²/n_B,
+// E[(A − B)²] = σ²(1/n_A + 1/n_B) and the mean's variance is σ²/N = E[(A − B)²] n_A n_B / N².
+// own_error() is that estimate in relMSE (eps 0.01, the mean as denominator, as rel_mse), kept
+// in the image's EXR header (restir.reference_relmse); it is what the issue's "a reference's own error below 10% of
+// the smallest difference reported" is checked against (the relmse of a configuration against
+// a noisy reference is its own relMSE plus the reference's, in expectation).
 #pragma once
 #include <map>
 #include <mutex>
@@ -38,13 +47,17 @@ class ReferenceCache {
   // Loads the cached file, or renders and writes it. Thread-safe; renders each key once.
   const Image& get(const ReferenceJob& job, const Scene& scene);
   std::string path(const std::string& key) const;
+  // The estimated relMSE of a loaded reference against the converged image (above); NaN when
+  // unknown (a 1-spp reference, or a file without its estimate).
+  double own_error(const std::string& key) const;
   int rendered() const { return rendered_; }
   int reused() const { return reused_; }
 
  private:
   std::string dir_;
   std::map<std::string, Image> images_;
-  std::mutex mutex_;
+  std::map<std::string, double> errors_;
+  mutable std::mutex mutex_;
   int rendered_ = 0, reused_ = 0;
 };
 

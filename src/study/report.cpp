@@ -259,7 +259,9 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
        "1000 / ms_median, <code>mse</code>, <code>relmse</code> (pbrt's relative MSE, eps 0.01) and <code>flip</code> (mean "
        "LDR-FLIP after the configuration's tone mapper) of the last frame against the reference, <code>convergence</code> = "
        "relMSE of the running mean of frames 0..f, <code>noise</code> = per-pixel standard deviation across seeds of the "
-       "last frame, mean over pixels. Error bars: mean ± standard error over seeds (and pooled axes).</p>\n";
+       "last frame, mean over pixels, <code>ref_relmse</code> = the reference's own relMSE, estimated from its two "
+       "independent halves (a configuration's relmse is, in expectation, its own plus this). Error bars: mean ± standard "
+       "error over seeds (and pooled axes).</p>\n";
 
   h += "<h2>Plots</h2>\n";
   for (const auto& p : plots) {

@@ -160,6 +160,9 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
     if (ref_images.empty()) return nullptr;
     return ref_images.size() == 1 ? ref_images[0] : ref_images[size_t(frame)];
   };
+  auto ref_error_of = [&](int frame) {  // the reference's own relMSE (ReferenceCache::own_error)
+    return refs.own_error(job.refs.size() == 1 ? job.refs[0].key : job.refs[size_t(frame)].key);
+  };
   const bool moving = ref_images.size() > 1;
   const auto values = option_values(o);
   const bool per_frame = s.per_frame();
@@ -181,7 +184,10 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
     reflective = reflective_mask(sd.scene, o, camera_at(sd.scene, o, o.render.frames - 1), kReflectiveRoughness);
   auto image_metrics = [&](Row& row, const Image& img, const Image& ref, bool last) {
     if (s.has_metric("mse")) row.metrics["mse"] = mse(img, ref);
-    if (s.has_metric("relmse")) row.metrics["relmse"] = rel_mse(img, ref);
+    if (s.has_metric("relmse")) {
+      row.metrics["relmse"] = rel_mse(img, ref);
+      row.metrics["ref_relmse"] = ref_error_of(row.frame);
+    }
     if (s.has_metric("flip") && last) row.metrics["flip"] = flip_metric(img, ref, o.output);
     if (s.has_metric("relmse_reflective") && last) row.metrics["relmse_reflective"] = rel_mse(img, ref, &reflective);
     if (s.has_metric("flip_reflective") && last) row.metrics["flip_reflective"] = flip_metric(img, ref, o.output, reflective);

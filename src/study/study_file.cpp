@@ -188,6 +188,7 @@ std::vector<std::string> metric_columns(const Study& s) {
   std::vector<std::string> c = {"ms_median", "ms_iqr", "fps"};
   for (const char* m : {"mse", "relmse", "flip", "convergence", "noise", "relmse_reflective", "flip_reflective"})
     if (s.has_metric(m)) c.push_back(m);
+  if (s.has_metric("relmse")) c.push_back("ref_relmse");  // the reference's own error (references.h)
   return c;
 }
 
