@@ -27,6 +27,7 @@ Camera camera_of(const Scene& scene, const Options& o) {
   if (c.keys.empty()) c.keys.push_back(CameraKey{});
   return c;
 }
+
 constexpr const char* kHalvesKey = "restir.reference_halves_spp";
 constexpr const char* kOwnErrorKey = "restir.reference_relmse";
 

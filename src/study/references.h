@@ -13,10 +13,11 @@
 // ⌊N/2⌋ spp) and saved as their spp-weighted mean, so that its own error can be estimated at no
 // extra cost: for independent unbiased halves A, B with per-pixel variances σ²/n_A, σ²/n_B,
 // E[(A − B)²] = σ²(1/n_A + 1/n_B) and the mean's variance is σ²/N = E[(A − B)²] n_A n_B / N².
-// own_error() is that estimate in relMSE (eps 0.01, the mean as denominator, as rel_mse), kept
-// in the image's EXR header (restir.reference_relmse); it is what the issue's "a reference's own error below 10% of
-// the smallest difference reported" is checked against (the relmse of a configuration against
-// a noisy reference is its own relMSE plus the reference's, in expectation).
+// own_error() is that estimate in relMSE (eps 0.01, the mean as denominator, as rel_mse), kept in
+// the image's EXR header (restir.reference_relmse). The relMSE of a configuration against a noisy
+// reference is its own relMSE plus the reference's, in expectation, so this tells whether a
+// reference is converged enough for the differences a study reports (docs/results asks for below
+// 10% of the smallest one).
 #pragma once
 #include <map>
 #include <mutex>
