@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -53,6 +54,7 @@ struct Job {
   size_t index = 0;
   size_t scene = 0, config = 0;
   uint64_t seed = 0;
+  size_t seed_index = 0;  // position of seed in the study's list
   bool first_seed = false;
   Options options;
   std::string id, config_id;
@@ -275,6 +277,7 @@ int run_study(const StudyArgs& a) {
         j.scene = si;
         j.config = ci;
         j.seed = s.seeds[k];
+        j.seed_index = k;
         j.first_seed = k == 0;
         try {
           j.options = make_options(s, scenes[si].defaults, configs[ci], j.seed);
@@ -332,6 +335,13 @@ int run_study(const StudyArgs& a) {
     if (a.merge) missing.push_back(&jobs[p]);
     else if (a.shard.owns(p)) pending.push_back(&jobs[p]);
   }
+  // Run order: per scene, seed by seed, every configuration of a seed in turn. A shared machine's
+  // load drifts over minutes; run configuration by configuration, that drift would land on whole
+  // configurations and read as a difference in frame time between them. Interleaved, it spreads
+  // over all of them, and the paired (same-seed) comparisons see neighbouring runs.
+  std::stable_sort(pending.begin(), pending.end(), [](const Job* x, const Job* y) {
+    return std::tie(x->scene, x->seed_index, x->config) < std::tie(y->scene, y->seed_index, y->config);
+  });
   const std::set<std::string> stale = stale_ids(known, jobs, scenes);
   if (!stale.empty() && !a.quiet)
     std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
