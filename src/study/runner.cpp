@@ -54,8 +54,7 @@ struct Job {
   size_t index = 0;
   size_t scene = 0, config = 0;
   uint64_t seed = 0;
-  size_t seed_index = 0;  // position of seed in the study's list
-  bool first_seed = false;
+  size_t seed_index = 0;  // position of seed in the study's list (0: the job that writes the images)
   Options options;
   std::string id, config_id;
   std::vector<ReferenceJob> refs;  // per frame (moving camera or animated scene) or one (static)
@@ -158,13 +157,10 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
   const Options& o = job.options;
   std::vector<const Image*> ref_images;
   for (const auto& r : job.refs) ref_images.push_back(&refs.get(r, sd.scene));
-  auto ref_of = [&](int frame) -> const Image* {
-    if (ref_images.empty()) return nullptr;
-    return ref_images.size() == 1 ? ref_images[0] : ref_images[size_t(frame)];
-  };
-  auto ref_error_of = [&](int frame) {  // the reference's own relMSE (ReferenceCache::own_error)
-    return refs.own_error(job.refs.size() == 1 ? job.refs[0].key : job.refs[size_t(frame)].key);
-  };
+  // Frame f's reference: the only one (a static camera) or its own (per-frame references).
+  auto ref_slot = [&](int frame) { return job.refs.size() == 1 ? size_t(0) : size_t(frame); };
+  auto ref_of = [&](int frame) -> const Image* { return ref_images.empty() ? nullptr : ref_images[ref_slot(frame)]; };
+  auto ref_error_of = [&](int frame) { return refs.own_error(job.refs[ref_slot(frame)].key); };  // its own relMSE
   const bool moving = ref_images.size() > 1;
   const auto values = option_values(o);
   const bool per_frame = s.per_frame();
@@ -225,7 +221,7 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
   }
   // The last frame of every seed, for the noise across seeds.
   if (s.has_metric("noise")) write_exr((fs::path(out) / "renders" / (job.id + ".exr")).string(), res.last);
-  if (job.first_seed) {
+  if (job.seed_index == 0) {
     const std::string prefix = (fs::path(out) / "images" / job.config_id).string();
     write_config_images(prefix, res.last, last_ref, o.output);
     if (last_ref) write_config_images((fs::path(out) / "images" / ("ref-" + job.config_id)).string(), *last_ref, nullptr, o.output, false);
@@ -278,7 +274,6 @@ int run_study(const StudyArgs& a) {
         j.config = ci;
         j.seed = s.seeds[k];
         j.seed_index = k;
-        j.first_seed = k == 0;
         try {
           j.options = make_options(s, scenes[si].defaults, configs[ci], j.seed);
         } catch (const std::exception& e) {
@@ -303,7 +298,7 @@ int run_study(const StudyArgs& a) {
             j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, s.frames - 1));
           }
         }
-        if (j.first_seed) report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
+        if (j.seed_index == 0) report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
         jobs.push_back(std::move(j));
       }
     }
