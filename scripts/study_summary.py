@@ -30,7 +30,7 @@ def cell(v):
         return "–"
     if len(v) < 2 or st.stdev(v) == 0:
         return "%.4g" % st.mean(v)
-    return "%.4g ± %.2g" % (st.mean(v), t975(len(v) - 1) * st.stdev(v) / math.sqrt(len(v)))
+    return "%.4g ± %.2g" % mean_ci(v)
 
 
 def main(argv):
