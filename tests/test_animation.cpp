@@ -302,8 +302,6 @@ test::EquivalenceReport compare_frame(const std::vector<test::BlockMeans>& runs,
   return rep;
 }
 
-// ReSTIR PT in the dynamic room: random replay (unbiased across frames), paths of up to 3
-// segments, the DI test's film and sample pattern.
 // `runs` sequences of o, each of `frames` against 8 renders of its frozen scene at ref_spp (CI
 // tier); the reports read "<label>frame F".
 void check_frames_match(const Scene& rest, const Options& o, const std::vector<int>& frames, int runs, uint64_t seed_base,
@@ -316,6 +314,8 @@ void check_frames_match(const Scene& rest, const Options& o, const std::vector<i
   }
 }
 
+// ReSTIR PT in the dynamic room: random replay (unbiased across frames), paths of up to 3
+// segments, the DI test's film and sample pattern.
 Options dynamic_room_pt(const Scene& rest, const char* history_scene) {
   Options o = dynamic_room_di(rest, "previous");
   o.integrator = "restir-pt";
