@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "equivalence.h"
+#include "test_helpers.h"
 #include "integrators/render.h"
 #include "integrators/gbuffer.h"
 #include "scene/accel.h"
@@ -30,12 +30,6 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 bool near(Vec3 a, Vec3 b, float eps = 1e-4f) { return length(a - b) < eps; }
 }  // namespace
 
@@ -310,15 +304,17 @@ test::EquivalenceReport compare_frame(const std::vector<test::BlockMeans>& runs,
 }
 
 // `runs` sequences of o, each of `frames` against 8 renders of its frozen scene at ref_spp (CI
-// tier); the reports read "<label>frame F".
-void check_frames_match(const Scene& rest, const Options& o, const std::vector<int>& frames, int runs, uint64_t seed_base,
-                        int ref_spp, const std::string& label) {
+// tier); the reports read "<label>frame F". Returns those references, per frame.
+std::map<int, std::vector<test::BlockMeans>> check_frames_match(const Scene& rest, const Options& o, const std::vector<int>& frames,
+                                                               int runs, uint64_t seed_base, int ref_spp, const std::string& label) {
   auto blocks = frame_blocks(rest, o, frames, runs, seed_base);
+  std::map<int, std::vector<test::BlockMeans>> refs;
   for (int f : frames) {
-    const auto ref = frozen_reference(rest, o, f, ref_spp, 8);
-    const test::EquivalenceReport rep = compare_frame(blocks[f], ref, label + "frame " + std::to_string(f));
+    refs[f] = frozen_reference(rest, o, f, ref_spp, 8);
+    const test::EquivalenceReport rep = compare_frame(blocks[f], refs[f], label + "frame " + std::to_string(f));
     CHECK(rep.pass());
   }
+  return refs;
 }
 
 // ReSTIR PT in the dynamic room: random replay (unbiased across frames), paths of up to 3
@@ -360,7 +356,7 @@ namespace {
 // certification takes a room where that holds, as its static convergence tests do.
 std::string lambertian_dynamic_room(const fs::path& dir) {
   const fs::path src = fs::path(RESTIR_SOURCE_DIR) / "scenes";
-  std::string text = read(src / "dynamic-room.pbrt");
+  std::string text = test::read_file(src / "dynamic-room.pbrt");
   const size_t a = text.find("MakeNamedMaterial \"aluminium-rough\"");
   const size_t b = text.find("\"float roughness\" 0.1", a);
   REQUIRE(a != std::string::npos);
@@ -470,7 +466,7 @@ namespace {
 // from here the teapot and its reflection in the glossy floor fill the film while it slides and turns.
 std::string close_moving_glossy(const fs::path& dir) {
   const fs::path src = fs::path(RESTIR_SOURCE_DIR) / "scenes";
-  std::string text = read(src / "moving-glossy.pbrt");
+  std::string text = test::read_file(src / "moving-glossy.pbrt");
   const std::string look = "LookAt 0 1.4 -4.2   0 0.5 0.8   0 1 0", fov = "\"float fov\" 40";
   REQUIRE(text.find(look) != std::string::npos);
   REQUIRE(text.find(fov) != std::string::npos);
@@ -495,14 +491,14 @@ TEST_SUITE("slow_dynamic") {
     const Scene rest = load_scene(close_moving_glossy(d));
     Options pt = dynamic_room_pt(rest, "previous");
     pt.render.frames = 7;
-    check_frames_match(rest, pt, {3, 6}, 300, 16000, 2048, "moving-glossy restir-pt ");
-    // The named biased mode (the history evaluated in this frame's scene) fails the same test:
+    auto refs = check_frames_match(rest, pt, {3, 6}, 300, 16000, 2048, "moving-glossy restir-pt ");
+    // The named biased mode (the history evaluated in this frame's scene) fails the same test,
+    // against the same frame-6 reference (pt.history_scene does not change the path tracer's):
     // -10.7% on the image, -23% on a block at frame 6 (100 sequences).
     Options cur = pt;
     set_option(cur, "pt.history_scene", "current");
     auto biased = frame_blocks(rest, cur, {6}, 100, 17000);
-    const test::EquivalenceReport rep = compare_frame(biased[6], frozen_reference(rest, cur, 6, 2048, 8),
-                                                      "moving-glossy restir-pt, history in this frame's scene, frame 6");
+    const test::EquivalenceReport rep = compare_frame(biased[6], refs[6], "moving-glossy restir-pt, history in this frame's scene, frame 6");
     CHECK_FALSE(rep.pass());
     // ReSTIR DI with temporal reuse alone. With spatial reuse too (its default), the history's
     // confidence reaches the M-cap, 20x a frame's candidates, within two frames; where the teapot's

@@ -28,19 +28,12 @@ fs::path fresh_dir(const std::string& tag) {
   return d;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Every regular file and folder under d, relative, with the files' contents.
 std::map<std::string, std::string> snapshot(const fs::path& d) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::recursive_directory_iterator(d)) {
     std::string rel = fs::relative(e.path(), d).string();
-    m[rel] = e.is_regular_file() ? slurp(e.path()) : std::string("<dir>");
+    m[rel] = e.is_regular_file() ? test::read_file(e.path()) : std::string("<dir>");
   }
   return m;
 }
@@ -119,7 +112,7 @@ TEST_SUITE("bad_input") {
         INFO(r.output);
         CHECK(r.status == 0);
       }
-      CHECK(slurp(d / "o.json").find("restir_sidecar") != std::string::npos);
+      CHECK(test::read_file(d / "o.json").find("restir_sidecar") != std::string::npos);
     }
     SUBCASE("a missing output folder is created before rendering, for every output") {
       auto r = render("-o " + (d / "out/a/o.exr").string() + " --timings " + (d / "t/times.csv").string());

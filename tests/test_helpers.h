@@ -3,6 +3,9 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "image/image.h"
@@ -20,6 +23,14 @@ inline std::string env_or(const char* name, const char* fallback) {
 }
 inline std::string shared_scene(const std::string& rel) { return env_or("RESTIR_SHARED_DIR", RESTIR_SHARED_DIR) + "/scenes/" + rel; }
 inline std::string own_scene(const std::string& rel) { return env_or("RESTIR_SOURCE_DIR", RESTIR_SOURCE_DIR) + "/scenes/" + rel; }
+
+// The whole file's bytes (empty if it cannot be read).
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 // Options = defaults < scene hints < the given key=value settings.
 inline Options options_for(const Scene& scene, std::initializer_list<const char*> sets) {

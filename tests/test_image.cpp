@@ -16,6 +16,7 @@
 #include "image/image_io.h"
 #include "image/metrics.h"
 #include "image/tonemap.h"
+#include "test_helpers.h"
 
 using namespace rl;
 namespace fs = std::filesystem;
@@ -44,13 +45,6 @@ struct TempDir {
     return n;
   }
 };
-
-std::string read_all(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 // Message of the exception thrown by f (empty if none).
 template <class F>
@@ -153,9 +147,9 @@ TEST_CASE("atomic writes: no temp file left, failures throw and never clobber th
     write_png(t / "ok.png", img);
     write_text_file_atomic(t / "ok.json", "{\"a\": 1}\n");
     CHECK(t.temp_files() == 0);
-    CHECK(read_all(t / "ok.json") == "{\"a\": 1}\n");
+    CHECK(test::read_file(t / "ok.json") == "{\"a\": 1}\n");
     write_text_file_atomic(t / "ok.json", "replaced");
-    CHECK(read_all(t / "ok.json") == "replaced");
+    CHECK(test::read_file(t / "ok.json") == "replaced");
     CHECK(t.temp_files() == 0);
   }
   SUBCASE("a directory as target path") {
@@ -178,9 +172,9 @@ TEST_CASE("atomic writes: no temp file left, failures throw and never clobber th
     CHECK_THROWS_AS(write_exr(t / "keep.exr", img), std::runtime_error);
     CHECK_THROWS_AS(write_png(t / "keep.png", img), std::runtime_error);
     CHECK_THROWS_AS(write_text_file_atomic(t / "keep.csv", "new"), std::runtime_error);
-    CHECK(read_all(t / "keep.exr") == "precious");
-    CHECK(read_all(t / "keep.png") == "precious");
-    CHECK(read_all(t / "keep.csv") == "precious");
+    CHECK(test::read_file(t / "keep.exr") == "precious");
+    CHECK(test::read_file(t / "keep.png") == "precious");
+    CHECK(test::read_file(t / "keep.csv") == "precious");
     // The directories are not ours to delete.
     CHECK(fs::is_directory(t / ("keep.exr.tmp-" + pid)));
   }
@@ -190,7 +184,7 @@ TEST_CASE("atomic writes: no temp file left, failures throw and never clobber th
     broken.pixels.resize(3);
     CHECK_THROWS_AS(write_exr(t / "keep.exr", broken), std::runtime_error);
     CHECK_THROWS_AS(write_exr(t / "empty.exr", Image()), std::runtime_error);
-    CHECK(read_all(t / "keep.exr") == "precious");
+    CHECK(test::read_file(t / "keep.exr") == "precious");
     CHECK_FALSE(fs::exists(t / "empty.exr"));
     CHECK(t.temp_files() == 0);
   }
@@ -338,7 +332,7 @@ TEST_CASE("reading a missing, malformed, truncated or unsupported file throws wi
   SUBCASE("truncated EXR") {
     Image img = gradient(64, 64);
     write_exr(t / "full.exr", img);
-    std::string bytes = read_all(t / "full.exr");
+    std::string bytes = test::read_file(t / "full.exr");
     REQUIRE(bytes.size() > 100);
     for (size_t keep : {bytes.size() / 2, size_t(20), size_t(0)}) {
       CAPTURE(keep);

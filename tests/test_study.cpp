@@ -35,12 +35,6 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 std::string cbox() { return test::own_scene("cornell-box.pbrt"); }
 
 // A study JSON around the given body fields (scenes default to the Cornell box, absolute path).
@@ -68,7 +62,7 @@ struct CsvTable {
 };
 CsvTable read_csv(const fs::path& p) {
   CsvTable t;
-  std::istringstream in(read(p));
+  std::istringstream in(test::read_file(p));
   std::string line;
   bool first = true;
   while (std::getline(in, line)) {
@@ -88,7 +82,7 @@ CsvTable read_csv(const fs::path& p) {
 size_t rows_in_json(const fs::path& p) {
   if (!fs::exists(p)) return 0;
   try {
-    return nlohmann::json::parse(read(p)).at("rows").size();
+    return nlohmann::json::parse(test::read_file(p)).at("rows").size();
   } catch (...) {
     return 0;  // being replaced right now: the rename is atomic, so this does not happen, but be safe
   }
@@ -168,7 +162,7 @@ void check_interrupted_then_resumed(int sig, const std::string& name) {
     CsvTable partial = read_csv(out / "results.csv");
     if (sig == SIGINT) CHECK(partial.rows.size() == saved);
     else CHECK(partial.rows.size() <= saved);
-    const std::string json = read(out / "results.json");
+    const std::string json = test::read_file(out / "results.json");
     for (const auto& r : partial.rows) {
       CHECK(r.size() == partial.header.size());
       CHECK(json.find("\"" + r[0] + "\"") != std::string::npos);
@@ -201,7 +195,7 @@ void check_outputs(const fs::path& out, const Study& s) {
   for (const char* c : {"id", "config", "scene", "seed", "frame", "integrator", "film.width", "render.seed", "ms_median", "fps"})
     CHECK_MESSAGE(t.col(c) >= 0, "missing column " << c);
   for (const auto& m : metric_columns(s)) CHECK_MESSAGE(t.col(m) >= 0, "missing metric column " << m);
-  const std::string html = read(out / "report.html");
+  const std::string html = test::read_file(out / "report.html");
   CHECK(html.find("<table class=\"configurations\">") != std::string::npos);
   CHECK(html.find("machine:") != std::string::npos);
   CHECK(html.find("http") == std::string::npos);  // no network links
@@ -213,7 +207,7 @@ void check_outputs(const fs::path& out, const Study& s) {
     }
     CHECK_MESSAGE(html.find("<img src=\"plots/" + p.name + ".png\"") != std::string::npos, "no <img> for plot " << p.name);
     if (p.x == "frame" && (p.y == "relmse" || p.y == "flip" || p.y == "mse"))  // each frame's error, not the last's
-      CHECK(read(out / "plots" / (p.name + ".gp")).find("of each frame") != std::string::npos);
+      CHECK(test::read_file(out / "plots" / (p.name + ".gp")).find("of each frame") != std::string::npos);
   }
   // Images: labelled rows (the crop's among them), the crop region outlined on the full images,
   // and each error map with its colour scale.
@@ -504,7 +498,7 @@ TEST_SUITE("study") {
       CHECK(e.last_write_time() == refs[e.path()]);
     }
     CHECK(n == 1);
-    CHECK(read(d / "out/report.html").find("0 rendered now, 1 reused") != std::string::npos);
+    CHECK(test::read_file(d / "out/report.html").find("0 rendered now, 1 reused") != std::string::npos);
     // A different reference configuration (more spp) is a different file.
     write(d / "s3.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
         "seeds": 1, "frames": 1, "reference": {"spp": 9}, "metrics": ["relmse"])"));
@@ -525,11 +519,11 @@ TEST_SUITE("study") {
     a.out = (d / "out").string();
     a.quiet = true;
     REQUIRE(run_study(a) == 0);
-    const std::string first = read(d / "out/results.csv");
+    const std::string first = test::read_file(d / "out/results.csv");
     auto images_time = fs::last_write_time(fs::directory_iterator(d / "out/images")->path());
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     REQUIRE(run_study(a) == 0);
-    CHECK(read(d / "out/results.csv") == first);  // frame times included: the rows were kept, not re-measured
+    CHECK(test::read_file(d / "out/results.csv") == first);  // frame times included: the rows were kept, not re-measured
     CHECK(fs::last_write_time(fs::directory_iterator(d / "out/images")->path()) == images_time);
     fs::remove_all(d);
   }

@@ -18,12 +18,6 @@ using namespace rl;
 namespace fs = std::filesystem;
 
 namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 std::string emitter(float l) {
   return "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [" + std::to_string(l) + " 1 1]\n"
          "Shape \"trianglemesh\" \"point3 P\" [-1 -1 5  1 -1 5  1 1 5  -1 1 5] \"integer indices\" [0 1 2 0 2 3]\n"
@@ -39,7 +33,7 @@ TEST_SUITE("study_stale") {
       const std::string cmd = std::string(RESTIR_CMAKE) + " -DSRC=" + src.string() + " -DOUT=" + out.string() +
                               " -DVERSION=" RESTIR_PROJECT_VERSION " -P " RESTIR_SOURCE_DIR "/cmake/build_id.cmake";
       REQUIRE(std::system(cmd.c_str()) == 0);
-      return slurp(out);
+      return test::read_file(out);
     };
     fs::path d = fs::temp_directory_path() / ("restir-buildid-" + std::to_string(::getpid()));
     fs::remove_all(d);
@@ -74,8 +68,8 @@ TEST_SUITE("study_stale") {
     a.out = (d / "out").string();
     a.quiet = true;
     REQUIRE(study::run_study(a) == 0);
-    const std::string first = slurp(d / "out/results.csv");
-    CHECK(slurp(d / "out/report.html").find("were stale") == std::string::npos);
+    const std::string first = test::read_file(d / "out/results.csv");
+    CHECK(test::read_file(d / "out/report.html").find("were stale") == std::string::npos);
 
     std::ofstream(d / "light.pbrt") << emitter(4);  // only the included file changes
     auto r = test::run_restir("study " + a.study + " --out " + a.out);
@@ -83,21 +77,21 @@ TEST_SUITE("study_stale") {
     CHECK(r.status == 0);
     CHECK(r.output.find("1 to run") != std::string::npos);
     CHECK(r.output.find("older inputs") != std::string::npos);
-    CHECK(slurp(d / "out/report.html").find("1 stored row(s) were stale") != std::string::npos);
-    CHECK(slurp(d / "out/results.csv") != first);
+    CHECK(test::read_file(d / "out/report.html").find("1 stored row(s) were stale") != std::string::npos);
+    CHECK(test::read_file(d / "out/results.csv") != first);
     // Made stale again, then --merge (which renders nothing): the old row stays in the store (not
     // in the report: it is of older inputs), the merge says the job is missing, and a run
     // recomputes and replaces it.
-    const std::string second = slurp(d / "out/results.csv");
+    const std::string second = test::read_file(d / "out/results.csv");
     std::ofstream(d / "light.pbrt") << emitter(2);
     auto merged = test::run_restir("study " + a.study + " --out " + a.out + " --merge");
     CHECK(merged.status == 1);
     CHECK(merged.output.find("1 of 1 job(s) missing") != std::string::npos);
-    CHECK(slurp(d / "out/results.csv") == second);
+    CHECK(test::read_file(d / "out/results.csv") == second);
     auto rerun = test::run_restir("study " + a.study + " --out " + a.out);
     CHECK(rerun.status == 0);
     CHECK(rerun.output.find("older inputs") != std::string::npos);
-    CHECK(slurp(d / "out/results.csv") != second);
+    CHECK(test::read_file(d / "out/results.csv") != second);
     // The stale row is gone from the store: a third run has nothing stale and nothing to run.
     auto again = test::run_restir("study " + a.study + " --out " + a.out);
     CHECK(again.output.find("0 to run") != std::string::npos);
