@@ -6,6 +6,7 @@
 #include <cuda_runtime.h>
 
 #include "backends/bvh_traverse.h"
+#include "integrators/di_candidates.h"
 #include "integrators/di_kernel.h"
 #include "integrators/gbuffer.h"
 #include "integrators/path_kernel.h"
@@ -41,6 +42,13 @@ __global__ void device_compile_check(PathWorld w, BvhView bvh, PerspectiveCamera
   acc += luminance(di_unshadowed(L, g, lp, w.ray_epsilon, &shadow)) + shadow.tmax;
   di_detail::LightView v;
   if (di_detail::view_light(L, g, lp, v)) acc += di_detail::light_density(L, g, lp, v) + di_detail::di_shadow_ray(L, g, lp, v, 1e-4f).tmax;
+  // ReSTIR DI's batched light candidates (one thread runs its pixel's batch on the GPU).
+  DiCandidateBatch batch;
+  batch.n = 2;
+  batch.emitter[0] = batch.emitter[1] = e;
+  batch.pmf[0] = batch.pmf[1] = pmf;
+  batch.ux[0] = batch.uy[1] = 0.25f, batch.uy[0] = batch.ux[1] = 0.75f;
+  acc += float(di_eval_light_candidates(L, g, g.frame.to_local(g.wo), true, batch)) + batch.target[0] + batch.light_pdf[1];
   PathState st;
   st.ray = ray;
   PendingShadow sh;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/parallel.h"
+#include "integrators/di_candidates.h"
 
 namespace rl {
 
@@ -68,39 +69,74 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
     const float den = ml * p_light + mb * p_bsdf;
     return den > 0 ? target / den : 0.0f;
   };
-  const size_t tile_size = tile.size();
-  for (int i = 0; i < light_candidates; ++i) {
-    const float u_select = rng.next_float();
-    const Vec2 u = rng.next_2d();
-    const float u_stream = rng.next_float();
-    uint32_t e;
-    float pmf;
-    if (tile_size > 0) {  // the emitter from the pixel's tile: marginally by the selection pmf
-      const LightTileEntry& t = tile[std::min(tile_size - 1, size_t(u_select * float(tile_size)))];
-      e = t.emitter;
-      pmf = t.pmf;
-    } else {
-      e = ctx.lights.select_emitter(u_select, &pmf);
-    }
-    if (e == kNoEmitter) continue;
+  // One light candidate evaluated on its own: the kinds the batch leaves (point lights, the
+  // environment, a receiver inside a sphere).
+  auto scalar_light_candidate = [&](uint32_t e, float pmf, Vec2 u, float u_stream_i) {
     if (!env_tile.empty() && e == ctx.lights.environment_emitter()) {  // a presampled direction (LightTiles)
       const EnvTileEntry& en = env_tile[std::min(env_tile.size() - 1, size_t(u.x * float(env_tile.size())))];
-      if (!(en.pdf > 0)) continue;
+      if (!(en.pdf > 0)) return;
       const LightPoint y{en.direction, e};
       LightView v;
       v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s.frame.to_local(v.wi);
       const float t = is_black(v.le) ? 0.0f : luminance(di_value(s, wo_l, v));
-      restir::stream(r, y, t, weight(y, v, t, en.pdf * pmf, true), u_stream);  // the map's density x the pmf
-      continue;
+      restir::stream(r, y, t, weight(y, v, t, en.pdf * pmf, true), u_stream_i);  // the map's density x the pmf
+      return;
     }
     LightSample ls;
-    if (!ctx.lights.sample_emitter(e, s.p, u, ls)) continue;
+    if (!ctx.lights.sample_emitter(e, s.p, u, ls)) return;
     const LightPoint y{ls.position, e};
     LightView v;
     const float t = view_light(ctx.lights, s, y, v) ? luminance(di_value(s, wo_l, v)) : 0.0f;
     // sample_emitter's solid-angle density times the selection pmf, in y's sample measure.
     const float light_pdf = ctx.lights.kind(e) == Lights::Kind::point ? pmf : ls.pdf * pmf * v.g;
-    restir::stream(r, y, t, weight(y, v, t, light_pdf, true), u_stream);
+    restir::stream(r, y, t, weight(y, v, t, light_pdf, true), u_stream_i);
+  };
+  // The light candidates, a batch at a time (di_candidates.h): their random numbers and emitters
+  // first, in the order one candidate at a time drew them, then the spheres and triangles in SIMD
+  // lanes, the other kinds here; then streamed in candidate order. The same samples, targets and
+  // weights as evaluating each in turn, bit for bit.
+  const size_t tile_size = tile.size();
+  DiCandidateBatch b;
+  float u_stream[kDiCandidateBatch];
+  for (int base = 0; base < light_candidates; base += kDiCandidateBatch) {
+    b.n = std::min(kDiCandidateBatch, light_candidates - base);
+    uint32_t skip = 0;  // no emitter selected
+    for (int i = 0; i < b.n; ++i) {
+      const float u_select = rng.next_float();
+      const Vec2 u = rng.next_2d();
+      u_stream[i] = rng.next_float();
+      b.ux[i] = u.x, b.uy[i] = u.y;
+      if (tile_size > 0) {  // the emitter from the pixel's tile: marginally by the selection pmf
+        const LightTileEntry& t = tile[std::min(tile_size - 1, size_t(u_select * float(tile_size)))];
+        b.emitter[i] = t.emitter;
+        b.pmf[i] = t.pmf;
+      } else {
+        b.emitter[i] = ctx.lights.select_emitter(u_select, &b.pmf[i]);
+      }
+      if (b.emitter[i] == kNoEmitter) skip |= 1u << i, b.emitter[i] = 0;
+    }
+    const uint32_t scalar = di_eval_light_candidates(ctx.lights.view(), s, wo_l, bsdf_candidates > 0, b) & ~skip;
+    for (int i = 0; i < b.n; ++i) {
+      if (skip & (1u << i)) continue;
+      const uint32_t e = b.emitter[i];
+      if (scalar & (1u << i)) {
+        scalar_light_candidate(e, b.pmf[i], Vec2{b.ux[i], b.uy[i]}, u_stream[i]);
+        continue;
+      }
+      if (!b.valid[i]) continue;
+      const LightPoint y{Vec3{b.qx[i], b.qy[i], b.qz[i]}, e};
+      float w = 0;
+      if (b.target[i] > 0) {
+        float p_bsdf = bsdf_candidates > 0 ? b.bsdf_pdf[i] : 0.0f;  // BSDF sampling never hits a point light
+        if (bsdf_visibility && p_bsdf > 0) {
+          LightView v;
+          if (view_light(ctx.lights, s, y, v) && ctx.accel.occluded(di_shadow_ray(ctx.lights, s, y, v, eps))) p_bsdf = 0;
+        }
+        const float den = ml * b.light_pdf[i] + mb * p_bsdf;
+        w = den > 0 ? b.target[i] / den : 0.0f;
+      }
+      restir::stream(r, y, b.target[i], w, u_stream[i]);
+    }
   }
   for (int i = 0; i < bsdf_candidates; ++i) {
     BsdfSample bs;
