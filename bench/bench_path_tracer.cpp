@@ -65,25 +65,6 @@ FrameRun run_frame(const RenderContext& ctx, const PerspectiveCamera& cam, bool 
   return run;
 }
 
-double replay(const Accel& accel, const std::vector<Ray>& rays, const std::vector<Ray>& shadow) {
-  const int chunk = 4096;
-  const int n1 = int((rays.size() + chunk - 1) / chunk), n2 = int((shadow.size() + chunk - 1) / chunk);
-  auto t0 = Clock::now();
-  parallel_for(n1 + n2, [&](int c) {
-    if (c < n1) {
-      size_t end = std::min(rays.size(), size_t(c + 1) * chunk);
-      for (size_t i = size_t(c) * chunk; i < end; ++i) {
-        Hit h;
-        (void)accel.intersect(rays[i], h);
-      }
-    } else {
-      size_t b = size_t(c - n1) * chunk, end = std::min(shadow.size(), b + chunk);
-      for (size_t i = b; i < end; ++i) (void)accel.occluded(shadow[i]);
-    }
-  });
-  return seconds_since(t0);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,7 +100,7 @@ int main(int argc, char** argv) {
     FrameRun rec = run_frame(ctx, cam, true);
     for (int i = 0; i < repeats; ++i) {
       frame_s.push_back(run_frame(ctx, cam, false).seconds);
-      embree_s.push_back(replay(accel, rec.rays, rec.shadow_rays));
+      embree_s.push_back(bench::replay(accel, rec.rays, rec.shadow_rays));
     }
     // The integrator `pt` itself: the wavefront path tracer (same paths, same rays as run_frame's
     // path_radiance), with its stage times: "in queries" = the batched closest-hit and shadow stages.

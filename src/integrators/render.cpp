@@ -188,6 +188,8 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
   return ms;
 }
 
+void FrameRenderer::set_ray_log(RayLog* log) { accel_->set_ray_log(log); }
+
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
   validate_options(o);
   Camera camera = scene.camera;

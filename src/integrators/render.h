@@ -41,6 +41,7 @@ void apply_scene_hints(Options& o, const SceneHints& hints);
 Options reference_options(const Options& defaults, const Options& o);
 
 class Accel;
+class RayLog;
 class Lights;
 class RayQueries;
 struct RenderContext;
@@ -70,6 +71,8 @@ class FrameRenderer {
                       const std::function<void(int, int)>& progress = {});
   // A new worker thread count (render.threads); the integrator and its history stay.
   void set_threads(int threads);
+  // Benchmarks: every ray the CPU backend traces from now on is also appended to `log` (null: off).
+  void set_ray_log(RayLog* log);
   const Options& options() const { return o_; }
   int frames_rendered() const { return frame_; }
 

@@ -1,6 +1,7 @@
 #include "scene/accel.h"
 
 #include <embree3/rtcore.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <cmath>
@@ -170,7 +171,24 @@ Hit to_hit(const RTCRayHit& rh) {
 }
 }  // namespace
 
+struct RayLog::Impl {
+  tbb::enumerable_thread_specific<std::vector<Ray>> closest, any_hit;
+};
+RayLog::RayLog() : impl_(std::make_unique<Impl>()) {}
+RayLog::~RayLog() = default;
+void RayLog::add(const Ray& ray, bool any_hit) { (any_hit ? impl_->any_hit : impl_->closest).local().push_back(ray); }
+namespace {
+std::vector<Ray> gather(const tbb::enumerable_thread_specific<std::vector<Ray>>& parts) {
+  std::vector<Ray> all;
+  for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
+  return all;
+}
+}  // namespace
+std::vector<Ray> RayLog::closest() const { return gather(impl_->closest); }
+std::vector<Ray> RayLog::any_hit() const { return gather(impl_->any_hit); }
+
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+  if (log_) log_->add(ray, false);
   if (!embree_safe(ray)) return false;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -184,6 +202,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::occluded(const Ray& ray) const {
+  if (log_) log_->add(ray, true);
   if (!embree_safe(ray)) return false;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -193,6 +212,8 @@ bool Accel::occluded(const Ray& ray) const {
 }
 
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
+  if (log_)
+    for (const Ray& r : rays) log_->add(r, false);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -211,6 +232,8 @@ void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coher
 }
 
 void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool coherent) const {
+  if (log_)
+    for (const Ray& r : rays) log_->add(r, true);
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;

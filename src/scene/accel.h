@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "core/math.h"
 #include "scene/ray_queries.h"
@@ -11,6 +12,25 @@
 #include "scene/scene_view.h"
 
 namespace rl {
+
+// Every ray a frame traced, for the benchmarks that replay them through Embree alone: how much of
+// a frame the rays themselves take, and what is left for the renderer's own work (issue 9).
+// Filled from many threads; the order of the rays is not deterministic, the set is.
+class RayLog {
+ public:
+  RayLog();
+  ~RayLog();
+  RayLog(const RayLog&) = delete;
+  RayLog& operator=(const RayLog&) = delete;
+  void add(const Ray& ray, bool any_hit);
+  // The rays logged so far: closest-hit queries, any-hit (shadow) queries.
+  std::vector<Ray> closest() const;
+  std::vector<Ray> any_hit() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // The CPU backend's RayQueries (Embree), and the scalar queries and hit-point shading that the
 // per-pixel integrators use.
@@ -49,6 +69,8 @@ class Accel final : public RayQueries {
   const Scene& scene() const { return scene_; }
   // Scene-size dependent epsilon used to offset spawned rays off surfaces.
   float ray_epsilon() const { return epsilon_; }
+  // While set (benchmarks; null = off), every query, scalar or batched, also appends its ray to `log`.
+  void set_ray_log(RayLog* log) { log_ = log; }
 
  private:
   struct Impl;
@@ -59,6 +81,7 @@ class Accel final : public RayQueries {
   float epsilon_ = 1e-4f;
   bool animated_ = false;  // the scene has animated shapes: update() has work
   uint64_t generation_ = 0;  // counts the update()s that moved something
+  RayLog* log_ = nullptr;
 };
 
 }  // namespace rl
