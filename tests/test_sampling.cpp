@@ -219,4 +219,21 @@ TEST_CASE("sampling: concentric disk is uniform on the unit disk") {
   check_chi2(stat::chi2_test(observed, expected));
 }
 
+TEST_CASE("sampling: radical inverse in every prime base (van der Corput digits, exact)") {
+  CHECK(radical_inverse(0, 1) == 0.5f);
+  CHECK(radical_inverse(0, 6) == 0.375f);  // 110 -> 0.011
+  CHECK(radical_inverse(1, 1) == doctest::Approx(1.0 / 3));
+  CHECK(radical_inverse(1, 5) == doctest::Approx(2.0 / 3 + 1.0 / 9));  // 12 in base 3 -> 0.21
+  const uint32_t primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53};
+  for (uint32_t b = 0; b < 16; ++b) {
+    for (uint64_t a : {0ull, 1ull, 2ull, 7ull, 100ull, 12345ull, 987654321ull, (1ull << 40) + 3}) {
+      double v = 0, scale = 1.0 / primes[b];  // digit by digit, most significant last
+      for (uint64_t x = a; x; x /= primes[b], scale /= primes[b]) v += double(x % primes[b]) * scale;
+      CAPTURE(b);
+      CAPTURE(a);
+      CHECK(radical_inverse(b, a) == doctest::Approx(v).epsilon(1e-6));
+    }
+  }
+}
+
 }  // TEST_SUITE

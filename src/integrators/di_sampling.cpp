@@ -10,6 +10,18 @@ namespace rl {
 using di_detail::LightView;
 using di_detail::di_value;
 
+// The batch of light candidates on this machine's widest vectors: on x86-64 with GCC, one copy
+// for AVX2 (x86-64-v3, 8 lanes) chosen at load time where the CPU has it, and the baseline SSE2
+// copy (4 lanes) elsewhere. -ffp-contract=off (CMakeLists.txt) keeps both copies' arithmetic
+// identical, so the machine does not change the image.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+[[gnu::flatten, gnu::target_clones("arch=x86-64-v3", "default")]]
+#endif
+uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
+                                       DiCandidateBatch& b) {
+  return di_eval_light_candidates(lights, s, wo_l, bsdf_pdfs, b);
+}
+
 Rgb di_unshadowed(const Lights& lights, const GSurface& s, const LightPoint& y, float eps, Ray* shadow_ray) {
   return di_unshadowed(lights.view(), s, y, eps, shadow_ray);
 }
@@ -115,7 +127,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
       }
       if (b.emitter[i] == kNoEmitter) skip |= 1u << i, b.emitter[i] = 0;
     }
-    const uint32_t scalar = di_eval_light_candidates(ctx.lights.view(), s, wo_l, bsdf_candidates > 0, b) & ~skip;
+    const uint32_t scalar = di_eval_light_candidates_host(ctx.lights.view(), s, wo_l, bsdf_candidates > 0, b) & ~skip;
     for (int i = 0; i < b.n; ++i) {
       if (skip & (1u << i)) continue;
       const uint32_t e = b.emitter[i];

@@ -86,6 +86,11 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
                                  bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {},
                                  std::span<const EnvTileEntry> env_tile = {});
 
+// di_eval_light_candidates (di_candidates.h) compiled for the host CPU's widest vectors.
+struct DiCandidateBatch;
+uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
+                                       DiCandidateBatch& b);
+
 // Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
 // follows the specular direction and returns the throughput-weighted emission it sees.
 Rgb di_specular(const RenderContext& ctx, const GSurface& s, Pcg32& rng);

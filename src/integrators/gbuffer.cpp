@@ -22,7 +22,7 @@ void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSu
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
   g.width = camera.width();
   g.height = camera.height();
-  g.pixels.assign(size_t(g.width) * size_t(g.height), GSurface{});
+  g.pixels.resize(size_t(g.width) * size_t(g.height));  // no clearing: fill_gsurface writes every entry
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
   parallel_for_pixels(g.width, g.height, [&](int x, int y) {
     Ray ray = camera_ray(ctx, camera, x, y, frame, sample);
