@@ -47,7 +47,6 @@ struct Lanes {
   float one_sided[kDiCandidateBatch];  // 1: emits on its normal's side only
   float ux[kDiCandidateBatch], uy[kDiCandidateBatch];            // the point's random numbers
   float pmf[kDiCandidateBatch];                                   // the emitter's selection pmf
-  float cos_phi[kDiCandidateBatch], sin_phi[kDiCandidateBatch];  // sphere: the cone's azimuth
   float le_r[kDiCandidateBatch], le_g[kDiCandidateBatch], le_b[kDiCandidateBatch];
 };
 
@@ -84,8 +83,10 @@ RESTIR_HD inline void sample_spheres(const Lanes& __restrict__ l, Vec3 p, Points
     const float one_minus_cos_max = small ? sin2_max / 2 : 1 - cos_max;
     const float cos_a = sin2_t / sin_max + cos_t * std::sqrt(std::max(1 - sin2_t / sin2_max, 0.0f));
     const float sin_a = std::sqrt(std::max(1 - cos_a * cos_a, 0.0f));
+    float sin_phi, cos_phi;  // the cone's azimuth, 2 pi u.y
+    sincos_turns(l.uy[k], sin_phi, cos_phi);
     const Frame f = Frame::from_normal((c - p) / dc);
-    const Vec3 nrm = f.to_world(Vec3{-sin_a * l.cos_phi[k], -sin_a * l.sin_phi[k], -cos_a});
+    const Vec3 nrm = f.to_world(Vec3{-sin_a * cos_phi, -sin_a * sin_phi, -cos_a});
     const Vec3 q = c + r * nrm;
     const Vec3 d = q - c;  // normal_at(q): the radial unit vector, flipped for inward spheres
     const float len = length(d);
@@ -211,8 +212,6 @@ RESTIR_HD inline uint32_t di_eval_light_candidates(const LightsView& lights, con
     if (sphere) {
       l.r[k] = is_black(e.radiance) ? 0.0f : e.radius;
       l.sign[k] = e.flip ? -1.0f : 1.0f;
-      const float phi = b.uy[i] * 2 * kPi;
-      l.cos_phi[k] = std::cos(phi), l.sin_phi[k] = std::sin(phi);
     } else {
       l.r[k] = is_black(e.radiance) ? 0.0f : e.area;
       l.ax[k] = e.p1.x, l.ay[k] = e.p1.y, l.az[k] = e.p1.z;

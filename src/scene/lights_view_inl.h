@@ -200,9 +200,10 @@ RESTIR_HD inline bool LightsView::sample_sphere(const LightEmitter& e, Vec3 p, V
     // Angle alpha between -wc and the normal at the sampled point (law of sines / cosines).
     float cos_a = sin2_t / sin_max + cos_t * safe_sqrt(1 - sin2_t / sin2_max);
     float sin_a = safe_sqrt(1 - cos_a * cos_a);
-    float phi = u.y * 2 * kPi;
+    float sin_phi, cos_phi;  // phi = 2 pi u.y
+    sincos_turns(u.y, sin_phi, cos_phi);
     Frame f = Frame::from_normal((c - p) / dc);
-    nrm = f.to_world(Vec3{-sin_a * std::cos(phi), -sin_a * std::sin(phi), -cos_a});
+    nrm = f.to_world(Vec3{-sin_a * cos_phi, -sin_a * sin_phi, -cos_a});
     pdf = 1 / (2 * kPi * one_minus_cos_max);
   }
   Vec3 q = c + r * nrm;
