@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "integrators/render.h"
 #include "integrators/stage_times.h"
 #include "scene/accel.h"
 
@@ -50,6 +51,40 @@ inline double replay(const Accel& accel, const std::vector<Ray>& rays, const std
     }
   });
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A frame against its own rays: `frames` frames (history), then one frame whose rays are logged
+// and replayed through Embree alone (median of three replays).
+struct RayShare {
+  double frame_ms = 0;   // median of the history frames after the first
+  double embree_ms = 0;  // Embree alone on the logged frame's rays
+  double closest_per_pixel = 0, any_hit_per_pixel = 0;
+};
+inline RayShare ray_share(const Scene& scene, const Options& o, int frames) {
+  Camera camera = scene.camera;
+  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
+  FrameRenderer renderer(scene, o);
+  Image img(o.film.width, o.film.height);
+  std::vector<double> ms;
+  const int count = frames + 1;
+  for (int f = 0; f < frames; ++f) ms.push_back(renderer.render_frame(camera.at_frame(f, count), count, img, nullptr));
+  RayLog log;
+  renderer.set_ray_log(&log);
+  (void)renderer.render_frame(camera.at_frame(frames, count), count, img, nullptr);
+  renderer.set_ray_log(nullptr);
+  const std::vector<Ray> closest = log.closest(), any_hit = log.any_hit();
+  const Accel accel(scene);
+  std::vector<double> embree_ms;
+  for (int k = 0; k < 3; ++k) embree_ms.push_back(1000 * replay(accel, closest, any_hit));
+  const double pixels = double(o.film.width) * o.film.height * o.render.spp;
+  return {median(ms, ms.size() > 1 ? 1 : 0), median(embree_ms), double(closest.size()) / pixels,
+          double(any_hit.size()) / pixels};
+}
+inline void print_ray_share(const std::string& what, const RayShare& r) {
+  fmt::print("rays of one {} frame: {:.2f} closest-hit + {:.2f} any-hit per pixel sample; Embree alone replays them in "
+             "{:.1f} ms = {:.0f}% of the {:.1f} ms frame ({:.1f} ms outside the rays)\n",
+             what, r.closest_per_pixel, r.any_hit_per_pixel, r.embree_ms, 100 * r.embree_ms / r.frame_ms, r.frame_ms,
+             r.frame_ms - r.embree_ms);
 }
 
 }  // namespace rl::bench

@@ -20,33 +20,6 @@
 
 using namespace rl;
 
-namespace {
-
-// ReSTIR DI's frame against its own rays: `frames` frames of history, then one logged frame.
-void ray_share(const Scene& scene, const Options& di, int frames) {
-  Camera camera = scene.camera;
-  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
-  FrameRenderer renderer(scene, di);
-  Image img(di.film.width, di.film.height);
-  std::vector<double> ms;
-  const int count = frames + 1;
-  for (int f = 0; f < frames; ++f) ms.push_back(renderer.render_frame(camera.at_frame(f, count), count, img, nullptr));
-  RayLog log;
-  renderer.set_ray_log(&log);
-  (void)renderer.render_frame(camera.at_frame(frames, count), count, img, nullptr);
-  renderer.set_ray_log(nullptr);
-  const std::vector<Ray> closest = log.closest(), any_hit = log.any_hit();
-  const Accel accel(scene);
-  std::vector<double> embree_ms;
-  for (int k = 0; k < 3; ++k) embree_ms.push_back(1000 * bench::replay(accel, closest, any_hit));
-  const double frame = bench::median(ms, ms.size() > 1 ? 1 : 0), rays = bench::median(embree_ms);
-  const double pixels = double(di.film.width) * di.film.height;
-  fmt::print("rays of one ReSTIR DI frame: {:.2f} closest-hit + {:.2f} any-hit per pixel; Embree alone replays them in "
-             "{:.1f} ms = {:.0f}% of the {:.1f} ms frame ({:.1f} ms outside the rays)\n",
-             double(closest.size()) / pixels, double(any_hit.size()) / pixels, rays, 100 * rays / frame, frame, frame - rays);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ReSTIR DI vs path tracing at equal time"};
@@ -78,7 +51,7 @@ int main(int argc, char** argv) {
     di.integrator = "restir-di";
     di.render.spp = 1;
     for (const auto& s : sets) set_option_assignment(di, s);
-    ray_share(scene, di, std::min(frames, 3));
+    bench::print_ray_share("ReSTIR DI", bench::ray_share(scene, di, std::min(frames, 3)));
     return 0;
   }
   Options ref = base;
@@ -112,6 +85,6 @@ int main(int argc, char** argv) {
   fmt::print("{:<28} {:>10.1f} {:>12.5f}\n", fmt::format("path tracer NEE, {} spp", spp), r_pt.frame_ms[0], pt_err);
   fmt::print("equal-time relMSE ratio (PT / ReSTIR DI): {:.1f}x\n", pt_err / di_err * (r_pt.frame_ms[0] / di_ms));
   fmt::print("ReSTIR DI stages (median): {}\n", bench::stage_summary(r_di.frame_stages, r_di.frame_stages.size() > 1 ? 1 : 0));
-  ray_share(scene, di, std::min(frames, 3));
+  bench::print_ray_share("ReSTIR DI", bench::ray_share(scene, di, std::min(frames, 3)));
   return 0;
 }

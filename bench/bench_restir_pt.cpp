@@ -4,6 +4,8 @@
 //   - each shift (reconnection, random replay, hybrid): ms per frame and relMSE of the last frame of
 //     a short sequence (static camera, temporal + spatial reuse) — the thesis' figs. 4.3 / 5.4;
 //   - the path tracer with as many samples as fit in each shift's frame time: equal-time relMSE ratio.
+// --rays-only: instead, where a ReSTIR PT frame (hybrid, the glossy teapots) goes: its rays logged
+// and replayed through Embree alone (bench_common.h, ray_share).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -24,12 +26,25 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames per sequence (the last one is measured)");
   app.add_option("--reference-spp", reference_spp);
   app.add_option("--depth", depth, "max depth of all renders");
+  bool rays_only = false;
+  app.add_flag("--rays-only", rays_only, "only where a hybrid frame on the teapots goes (its rays replayed through Embree)");
   CLI11_PARSE(app, argc, argv);
 
   const std::string shared = std::string(RESTIR_SHARED_DIR) + "/scenes/", own = std::string(RESTIR_SOURCE_DIR) + "/scenes/";
   const std::pair<const char*, std::string> scenes[] = {{"rough: cornell-box", own + "cornell-box.pbrt"},
                                                         {"glossy: veach-mis", shared + "veach-mis/scene-v4.pbrt"},
                                                         {"glossy: teapots", own + "teapot.pbrt"}};
+  if (rays_only) {
+    const Scene scene = load_scene(own + "teapot.pbrt");
+    Options o;
+    apply_scene_hints(o, scene.hints);
+    o.film.width = width, o.film.height = height, o.path.max_depth = depth;
+    o.integrator = "restir-pt";
+    o.render.spp = 1;
+    set_option(o, "pt.shift", "hybrid");
+    bench::print_ray_share("ReSTIR PT (hybrid, teapots)", bench::ray_share(scene, o, std::min(frames, 3)));
+    return 0;
+  }
   for (const auto& [label, path] : scenes) {
     Scene scene = load_scene(path);
     Options base;

@@ -52,7 +52,7 @@ LightsView upload_lights(DeviceStore& store, const LightsView& h) {
   d.selection.pmfs = store.upload(h.selection.pmfs, h.selection.size);
   d.mesh_first = store.upload(h.mesh_first, h.num_meshes);
   d.sphere_index = store.upload(h.sphere_index, h.num_spheres);
-  d.env_pixels = store.upload(h.env_pixels, h.env_pixels ? size_t(h.env_width) * size_t(h.env_height) : 0);
+  d.env_texels = store.upload(h.env_texels, h.env_texels ? size_t(h.env_width) * size_t(h.env_height) : 0);
   d.env_rows.bins = store.upload(h.env_rows.bins, h.env_rows.size);
   d.env_rows.pmfs = store.upload(h.env_rows.pmfs, h.env_rows.size);
   d.env_col_bins = store.upload(h.env_col_bins, h.num_env_col_entries);

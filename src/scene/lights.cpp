@@ -100,6 +100,19 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
         row_weight[size_t(y)] = float(cols.total_weight());
       }
       t_.env_rows = AliasTable(row_weight);
+      // Each texel's lookup result in one record (EnvTexel): the radiance as the map gives it,
+      // scaled, and the density of the two-level selection over (u, v).
+      t_.env_texels.resize(size_t(w) * size_t(h));
+      const AliasTableView rows = t_.env_rows.view();
+      for (int y = 0; y < h; ++y) {
+        const uint32_t first = t_.env_col_offsets[size_t(y)], end = t_.env_col_offsets[size_t(y) + 1];
+        const AliasTableView cols{t_.env_col_bins.data() + first, t_.env_col_pmfs.data() + first, end - first};
+        for (int x = 0; x < w; ++x) {
+          const Rgb v = t_.env_image.at(x, y) * t_.env_scale;
+          t_.env_texels[size_t(y) * size_t(w) + size_t(x)] = {is_finite(v) ? max(v, Rgb(0)) : Rgb(0),
+                                                               rows.pmf(uint32_t(y)) * cols.pmf(uint32_t(x)) * float(w) * float(h)};
+        }
+      }
       avg = wsum > 0 ? float(sum / wsum) : 0.0f;
     }
     LightEmitter e;
@@ -131,7 +144,7 @@ void Lights::repoint() {
   v.env_emitter = t_.env_emitter;
   v.env_mapping = t_.env_mapping;
   v.env_scale = t_.env_scale;
-  v.env_pixels = t_.env_image.pixels.data();
+  v.env_texels = t_.env_texels.data();
   v.env_width = t_.env_image.width;
   v.env_height = t_.env_image.height;
   v.env_world_from_light = t_.env_world_from_light;

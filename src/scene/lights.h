@@ -123,6 +123,7 @@ class Lights {
     std::vector<AliasBin> env_col_bins;
     std::vector<float> env_col_pmfs;
     std::vector<uint32_t> env_col_offsets;  // env_image.height + 1 entries (none for a constant environment)
+    std::vector<EnvTexel> env_texels;       // per texel: radiance and density (lights_view.h)
   };
   // Points view_ at t_ (after construction, copies and moves).
   void repoint();

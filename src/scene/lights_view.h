@@ -16,7 +16,7 @@
 //   selection.pmfs           float            selection.size
 //   mesh_first               uint32_t         num_meshes
 //   sphere_index             uint32_t         num_spheres
-//   env_pixels               Rgb              env_width * env_height (0 for a constant environment)
+//   env_texels               EnvTexel         env_width * env_height (0 for a constant environment)
 //   env_rows.bins            AliasBin         env_rows.size
 //   env_rows.pmfs            float            env_rows.size
 //   env_col_bins             AliasBin         num_env_col_entries
@@ -75,6 +75,15 @@ struct EmitterPoint {
 };
 
 enum class LightKind : uint8_t { triangle, sphere, point, environment };
+
+// One texel of an environment map with what a lookup returns: its radiance (scaled, negative and
+// non-finite values zeroed) and its density over the map's (u, v) square (row pmf x column pmf x
+// W x H). One record instead of three arrays, so that a lookup reads one cache line: on a
+// 512x256 map the three scattered reads were a sixth of a ReSTIR PT frame (teapots).
+struct EnvTexel {
+  Rgb radiance{0};
+  float pdf_uv = 0;
+};
 
 struct LightEmitter {
   LightKind kind = LightKind::triangle;
@@ -161,7 +170,7 @@ struct LightsView {
   // Environment
   EnvironmentLight::Mapping env_mapping = EnvironmentLight::Mapping::constant;
   Rgb env_scale{0};
-  const Rgb* env_pixels = nullptr;          // row-major, row 0 at the top (Image::pixels)
+  const EnvTexel* env_texels = nullptr;     // row-major, row 0 at the top (as Image::pixels)
   int env_width = 0, env_height = 0;
   Mat4 env_world_from_light, env_light_from_world;
   // Texel selection (see Lights' tables): env_rows picks the row y, then row y's column table is

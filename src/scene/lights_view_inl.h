@@ -276,10 +276,9 @@ RESTIR_HD inline LightsView::EnvLookup LightsView::environment_lookup(Vec3 dir) 
   const Vec2 uv = equirect ? lights_detail::equirect_uv(wl) : equal_area_sphere_to_square(wl);
   const int w = env_width, h = env_height;
   const int x = clamp(int(uv.x * float(w)), 0, w - 1), y = clamp(int(uv.y * float(h)), 0, h - 1);
-  const size_t texel = size_t(y) * size_t(w) + size_t(x);
-  const Rgb v = env_pixels[texel] * env_scale;
-  r.radiance = is_finite(v) ? max(v, Rgb(0)) : Rgb(0);
-  const float pdf_uv = env_rows.pmf(uint32_t(y)) * env_cols(uint32_t(y)).pmf(uint32_t(x)) * float(w) * float(h);
+  const EnvTexel& t = env_texels[size_t(y) * size_t(w) + size_t(x)];
+  r.radiance = t.radiance;
+  const float pdf_uv = t.pdf_uv;
   if (equirect) {
     // Jacobian of (u, v) -> direction: 2 pi^2 sin(theta).
     float st = std::sqrt(wl.x * wl.x + wl.y * wl.y);
