@@ -109,6 +109,7 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
   // weights as evaluating each in turn, bit for bit.
   const size_t tile_size = tile.size();
   DiCandidateBatch b;
+  const LightEmitter* emitters = ctx.lights.view().emitters;
   float u_stream[kDiCandidateBatch];
   for (int base = 0; base < light_candidates; base += kDiCandidateBatch) {
     b.n = std::min(kDiCandidateBatch, light_candidates - base);
@@ -126,6 +127,11 @@ DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, in
         b.emitter[i] = ctx.lights.select_emitter(u_select, &b.pmf[i]);
       }
       if (b.emitter[i] == kNoEmitter) skip |= 1u << i, b.emitter[i] = 0;
+      // The emitter records are read in the batch's gather; fetching them now overlaps the cache
+      // misses with the rest of this loop (they were a sixth of the candidate stage).
+      const char* record = reinterpret_cast<const char*>(emitters + b.emitter[i]);
+      __builtin_prefetch(record);
+      __builtin_prefetch(record + 64);
     }
     const uint32_t scalar = di_eval_light_candidates_host(ctx.lights.view(), s, wo_l, bsdf_candidates > 0, b) & ~skip;
     for (int i = 0; i < b.n; ++i) {
