@@ -187,6 +187,43 @@ TEST_SUITE("bvh") {
     }
   }
 
+  TEST_CASE("the ray log (benchmarks) sees every query once, scalar and batched; a DI frame's closest hits are its primary rays") {
+    const Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
+    Accel accel(scene);
+    const std::vector<Ray> rays = random_rays(scene, 20, 5);
+    RayLog log;
+    Hit hit;
+    (void)accel.intersect(rays[0], hit);  // before the log is set: not logged
+    accel.set_ray_log(&log);
+    for (int i = 0; i < 3; ++i) (void)accel.intersect(rays[size_t(i)], hit);
+    for (int i = 3; i < 5; ++i) (void)accel.occluded(rays[size_t(i)]);
+    std::vector<Hit> hits(5);
+    std::vector<uint8_t> blocked(4);
+    accel.intersect(std::span<const Ray>(rays.data() + 5, 5), hits);
+    accel.occluded(std::span<const Ray>(rays.data() + 10, 4), blocked);
+    accel.set_ray_log(nullptr);
+    (void)accel.occluded(rays[15]);  // after: not logged
+    const std::vector<Ray> closest = log.closest(), any_hit = log.any_hit();
+    REQUIRE(closest.size() == 8);
+    REQUIRE(any_hit.size() == 6);
+    for (size_t i = 0; i < 8; ++i) CHECK((closest[i].o == rays[i < 3 ? i : i + 2].o && closest[i].d == rays[i < 3 ? i : i + 2].d));
+    for (size_t i = 0; i < 6; ++i) CHECK(any_hit[i].d == rays[i < 2 ? i + 3 : i + 8].d);
+
+    // ReSTIR DI without BSDF candidates traces one closest hit per pixel (its primary ray) and its
+    // shadow rays; the log counts exactly that, whatever the thread count.
+    Options o = options_for(scene, {"film.width=24", "film.height=16", "render.spp=1", "di.bsdf_candidates=0"});
+    o.integrator = "restir-di";
+    FrameRenderer renderer(scene, o);
+    Image img(o.film.width, o.film.height);
+    RayLog frame_log;
+    renderer.set_ray_log(&frame_log);
+    (void)renderer.render_frame(scene.camera.at_frame(0, 1), 1, img, nullptr);
+    CHECK(frame_log.closest().size() == size_t(24 * 16));
+    // At most one visibility ray per initial sample and two per spatial neighbour (pairwise MIS).
+    CHECK(frame_log.any_hit().size() > 0);
+    CHECK(frame_log.any_hit().size() <= size_t(24 * 16) * size_t(1 + 2 * o.di.reuse.spatial_neighbors));
+  }
+
   TEST_CASE("render.backend=cuda without a usable device is one clear option error") {
     if (cuda_unavailable_reason().empty()) return;  // a GPU machine: restir_gpu_tests covers it
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
