@@ -1,7 +1,7 @@
 // ReSTIR DI's light candidates a batch at a time (issue 9: "cheaper candidates"). The initial
 // resampling of Bitterli et al. 2020 (§3, Alg. 3) draws M = 32 light samples per pixel and
 // evaluates the target at each; one at a time that is a long chain of dependent scalar work
-// (cone sampling, two square roots and a division per step) and 60% of a frame of many-lights.
+// (cone sampling, two square roots and a division per step) and over half of a frame of many-lights.
 // Here the candidates of one pixel are drawn first, then sorted by emitter kind into
 // structure-of-arrays lanes, so that the compiler turns the sphere and triangle sampling, the
 // geometry term and a Lambertian BSDF into SIMD loops over the candidates (RTXDI evaluates its
