@@ -22,7 +22,7 @@ inline constexpr int kDiCandidateBatch = 32;
 // One batch's candidates: the inputs (emitter, its selection pmf, the point's two random numbers)
 // and, after di_eval_light_candidates, the light point, its target p̂ (luminance of the
 // unshadowed integrand), the light strategy's density (selection pmf x sampling density, in the
-// point's measure) and the BSDF strategy's density in the same measure, and its light view.
+// point's area measure) and the BSDF strategy's density in the same measure.
 struct DiCandidateBatch {
   int n = 0;
   uint32_t emitter[kDiCandidateBatch];
@@ -51,8 +51,8 @@ struct Lanes {
 };
 
 // What sample_sphere and sample_triangle leave for the common part: the light point q, its
-// normal (normal_at's), the sampling density (solid angle for spheres, area for triangles) and
-// whether the sample exists.
+// normal (normal_at's), the sampling density in solid angle at the receiver (as sample_emitter
+// reports it) and whether the sample exists.
 struct Points {
   float qx[kDiCandidateBatch], qy[kDiCandidateBatch], qz[kDiCandidateBatch];
   float nx[kDiCandidateBatch], ny[kDiCandidateBatch], nz[kDiCandidateBatch];
@@ -104,7 +104,8 @@ RESTIR_HD inline void sample_spheres(const Lanes& __restrict__ l, Vec3 p, Points
   }
 }
 
-// LightsView::sample_triangle (uniform by area, Heitz 2019 barycentrics), its density in area measure.
+// LightsView::sample_triangle (uniform by area, Heitz 2019 barycentrics); its density converted to
+// solid angle, d^2 / (A |cos theta_l|) (PBR4 §4.2.3), as sample_triangle reports it.
 RESTIR_HD inline void sample_triangles(const Lanes& __restrict__ l, Vec3 p, Points& __restrict__ o) {
   for (int k = 0; k < l.n; ++k) {
     const float u0 = l.ux[k], u1 = l.uy[k];
@@ -129,8 +130,8 @@ RESTIR_HD inline void sample_triangles(const Lanes& __restrict__ l, Vec3 p, Poin
 }
 
 // view_light, di_value and the two strategies' densities for every lane of one kind, written to
-// the batch at the lanes' candidates. `diffuse`: the BSDF is Lambertian and evaluated in the loop
-// (bsdf_detail::diffuse_eval / diffuse_pdf, the same operations); otherwise per lane through
+// the batch at the lanes' candidates. A Lambertian BSDF is evaluated in the loop
+// (bsdf_detail::diffuse_eval / diffuse_pdf, the same operations); any other per lane through
 // bsdf_eval / bsdf_pdf. Densities are in the light point's area measure: the sampled solid-angle
 // density x g x the selection pmf (as di_initial_reservoir's scalar path), and bsdf_pdf x g.
 RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __restrict__ o, const GSurface& s, Vec3 wo_l,
