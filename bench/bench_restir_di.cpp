@@ -20,7 +20,6 @@
 
 using namespace rl;
 
-
 int main(int argc, char** argv) {
   CLI::App app{"ReSTIR DI vs path tracing at equal time"};
   std::string scene_path = std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt";

@@ -137,7 +137,6 @@ RESTIR_HD inline void sample_triangles(const Lanes& __restrict__ l, Vec3 p, Poin
 RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __restrict__ o, const GSurface& s, Vec3 wo_l,
                                    bool bsdf_pdfs, DiCandidateBatch& __restrict__ b) {
   float wl_x[kDiCandidateBatch], wl_y[kDiCandidateBatch], wl_z[kDiCandidateBatch], g[kDiCandidateBatch];
-  float pdf_sa[kDiCandidateBatch];
   int32_t ok[kDiCandidateBatch];  // 0 or 1 (32-bit like the floats: the loops vectorize)
   for (int k = 0; k < l.n; ++k) {  // view_light
     const Vec3 q{o.qx[k], o.qy[k], o.qz[k]}, n{o.nx[k], o.ny[k], o.nz[k]};
@@ -149,7 +148,6 @@ RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __
     wl_x[k] = wl.x, wl_y[k] = wl.y, wl_z[k] = wl.z;
     g[k] = std::fabs(dot(n, wi)) / d2;
     ok[k] = o.ok[k] & (d2 > 0) & lit;
-    pdf_sa[k] = o.pdf[k];  // solid angle, as sample_sphere and sample_triangle report it
   }
   float f_r[kDiCandidateBatch], f_g[kDiCandidateBatch], f_b[kDiCandidateBatch], pb[kDiCandidateBatch];
   if (s.bsdf.type == Material::Type::diffuse) {
@@ -174,7 +172,7 @@ RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __
     const bool finite = finite_f(vr) & finite_f(vg) & finite_f(vb);  // di_value: max(value, 0) when finite
     vr = finite ? std::max(vr, 0.0f) : vr, vg = finite ? std::max(vg, 0.0f) : vg, vb = finite ? std::max(vb, 0.0f) : vb;
     t[k] = ok[k] ? 0.2126f * vr + 0.7152f * vg + 0.0722f * vb : 0.0f;
-    pl[k] = pdf_sa[k] * l.pmf[k] * g[k];
+    pl[k] = o.pdf[k] * l.pmf[k] * g[k];  // o.pdf: solid angle, as sample_sphere / sample_triangle report it
     pbs[k] = pb[k] * g[k];  // meaningless without bsdf_pdfs (the caller has no BSDF strategy then)
   }
   for (int k = 0; k < l.n; ++k) {  // scatter to the candidates

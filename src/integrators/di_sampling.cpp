@@ -85,6 +85,9 @@ class InitialResampler {
       p_bsdf = bsdf_pdf(s_.bsdf, wo_l_, v.wi_l) * v.g;
       if (shadow_test && bsdf_visibility_ && p_bsdf > 0 && ctx_.accel.occluded(di_shadow_ray(ctx_.lights, s_, y, v, eps_))) p_bsdf = 0;
     }
+    return balance_weight(target, p_light, p_bsdf);
+  }
+  float balance_weight(float target, float p_light, float p_bsdf) const {
     const float den = ml_ * p_light + mb_ * p_bsdf;
     return den > 0 ? target / den : 0.0f;
   }
@@ -179,8 +182,7 @@ void InitialResampler::stream_batch(const DiCandidateBatch& b, uint32_t scalar, 
         LightView v;
         if (view_light(ctx_.lights, s_, y, v) && ctx_.accel.occluded(di_shadow_ray(ctx_.lights, s_, y, v, eps_))) p_bsdf = 0;
       }
-      const float den = ml_ * b.light_pdf[i] + mb_ * p_bsdf;
-      w = den > 0 ? b.target[i] / den : 0.0f;
+      w = balance_weight(b.target[i], b.light_pdf[i], p_bsdf);
     }
     restir::stream(r_, y, b.target[i], w, u_stream[i]);
   }

@@ -73,15 +73,16 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
     float avg = positive_luminance(t_.env_scale);
     if (t_.env_mapping != EnvironmentLight::Mapping::constant && env.image.empty()) t_.env_mapping = EnvironmentLight::Mapping::constant;
     if (t_.env_mapping != EnvironmentLight::Mapping::constant) {
-      t_.env_image = env.image;
-      const int w = t_.env_image.width, h = t_.env_image.height;
+      const Image& image = env.image;
+      const int w = image.width, h = image.height;
+      t_.env_width = w, t_.env_height = h;
       std::vector<float> f(size_t(w) * size_t(h));
       double sum = 0, wsum = 0;
       for (int y = 0; y < h; ++y) {
         // Equirect: texel solid angle is proportional to sin(theta) (row centre).
         float jac = t_.env_mapping == EnvironmentLight::Mapping::equirect ? std::sin(kPi * (float(y) + 0.5f) / float(h)) : 1.0f;
         for (int x = 0; x < w; ++x) {
-          float l = positive_luminance(t_.env_image.at(x, y) * t_.env_scale);
+          float l = positive_luminance(image.at(x, y) * t_.env_scale);
           if (!std::isfinite(l)) l = 0;
           f[size_t(y) * size_t(w) + size_t(x)] = l * jac;
           sum += double(l) * jac;
@@ -108,7 +109,7 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
         const uint32_t first = t_.env_col_offsets[size_t(y)], end = t_.env_col_offsets[size_t(y) + 1];
         const AliasTableView cols{t_.env_col_bins.data() + first, t_.env_col_pmfs.data() + first, end - first};
         for (int x = 0; x < w; ++x) {
-          const Rgb v = t_.env_image.at(x, y) * t_.env_scale;
+          const Rgb v = image.at(x, y) * t_.env_scale;
           t_.env_texels[size_t(y) * size_t(w) + size_t(x)] = {is_finite(v) ? max(v, Rgb(0)) : Rgb(0),
                                                                rows.pmf(uint32_t(y)) * cols.pmf(uint32_t(x)) * float(w) * float(h)};
         }
@@ -145,8 +146,8 @@ void Lights::repoint() {
   v.env_mapping = t_.env_mapping;
   v.env_scale = t_.env_scale;
   v.env_texels = t_.env_texels.data();
-  v.env_width = t_.env_image.width;
-  v.env_height = t_.env_image.height;
+  v.env_width = t_.env_width;
+  v.env_height = t_.env_height;
   v.env_world_from_light = t_.env_world_from_light;
   v.env_light_from_world = t_.env_light_from_world;
   v.env_rows = t_.env_rows.view();

@@ -108,7 +108,7 @@ class Lights {
     // Environment
     EnvironmentLight::Mapping env_mapping = EnvironmentLight::Mapping::constant;
     Rgb env_scale{0};
-    Image env_image;
+    int env_width = 0, env_height = 0;  // the map's texels (its pixels live on in env_texels)
     Mat4 env_world_from_light, env_light_from_world;
     // Texel selection ∝ luminance x (equirect) sin(theta): a row, then a column in that row (pbrt's
     // marginal / conditional split, PBR4 sec. A.5.6), with alias tables for O(1) sampling where a 2-D
@@ -122,7 +122,7 @@ class Lights {
     // [env_col_offsets[y], env_col_offsets[y + 1]) (none for a row of zero weight).
     std::vector<AliasBin> env_col_bins;
     std::vector<float> env_col_pmfs;
-    std::vector<uint32_t> env_col_offsets;  // env_image.height + 1 entries (none for a constant environment)
+    std::vector<uint32_t> env_col_offsets;  // env_height + 1 entries (none for a constant environment)
     std::vector<EnvTexel> env_texels;       // per texel: radiance and density (lights_view.h)
   };
   // Points view_ at t_ (after construction, copies and moves).
