@@ -116,4 +116,12 @@ RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit
   }
 }
 
+// The ray tracer the per-pixel stages take (di_pixel.h's Tracer) over this traversal: the CUDA
+// backend's kernels use it, and the host can run the same stages on the same BVH.
+struct BvhTracer {
+  BvhView bvh;
+  RESTIR_HD bool occluded(const Ray& r) const { return bvh_trace(bvh, r, true, nullptr); }
+  RESTIR_HD bool intersect(const Ray& r, Hit& hit) const { return bvh_trace(bvh, r, false, &hit); }
+};
+
 }  // namespace rl

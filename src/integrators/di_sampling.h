@@ -8,28 +8,18 @@
 
 #include "core/rng.h"
 #include "integrators/di_kernel.h"
+#include "integrators/di_pixel.h"
 #include "integrators/gbuffer.h"
 #include "restir/reservoir.h"
 
 namespace rl {
 
 
-using DiReservoir = restir::Reservoir<LightPoint>;
-// RTXDI's packed DI reservoir is 32 bytes (issue 9: ours must be no larger).
-static_assert(sizeof(DiReservoir) <= 32, "ReSTIR DI's reservoir outgrew RTXDI's 32 bytes");
-
-// One pre-selected emitter of a light tile and its selection probability.
-struct LightTileEntry {
-  uint32_t emitter = kNoEmitter;
-  float pmf = 0;
-};
-
-// One presampled direction of the environment map and what its sampling computed: the radiance
-// arriving from it and its solid-angle density (without the environment's selection pmf).
-struct EnvTileEntry {
-  Vec3 direction;
-  Rgb radiance{0};
-  float pdf = 0;
+// di_pixel.h's Tracer on the CPU: Embree, one ray at a time.
+struct AccelTracer {
+  const Accel* accel;
+  bool occluded(const Ray& r) const { return accel->occluded(r); }
+  bool intersect(const Ray& r, Hit& hit) const { return accel->intersect(r, hit); }
 };
 
 // Pre-sampled light tiles (Wyman and Panteleev 2021, "Rearchitecting spatiotemporal resampling for
@@ -54,7 +44,14 @@ class LightTiles {
   std::span<const LightTileEntry> tile_of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
   // The same tile's environment directions; empty without tiles, environment or env_size.
   std::span<const EnvTileEntry> env_tile_of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
-  static constexpr int kBlockPixels = 16;
+  static constexpr int kBlockPixels = kLightTileBlockPixels;
+  // The tiles as flat arrays (count() tiles of size() entries, env_size() environment directions
+  // each), for the CUDA backend's copy; light_tile_index picks a pixel's.
+  int count() const { return count_; }
+  int size() const { return size_; }
+  int env_size() const { return env_size_; }
+  const std::vector<LightTileEntry>& entries() const { return entries_; }
+  const std::vector<EnvTileEntry>& env_entries() const { return env_entries_; }
 
  private:
   size_t tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const;
@@ -85,11 +82,6 @@ float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& 
 DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
                                  bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {},
                                  std::span<const EnvTileEntry> env_tile = {});
-
-// di_eval_light_candidates (di_candidates.h) compiled for the host CPU's widest vectors.
-struct DiCandidateBatch;
-uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
-                                       DiCandidateBatch& b);
 
 // Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
 // follows the specular direction and returns the throughput-weighted emission it sees.

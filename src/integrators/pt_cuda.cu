@@ -8,6 +8,7 @@
 #include "backends/bvh.h"
 #include "backends/bvh_traverse.h"
 #include "backends/cuda/device_store.cuh"
+#include "backends/view_upload.h"
 #include "integrators/path_kernel.h"
 #include "integrators/path_tracer.h"
 #include "integrators/pt_cuda.h"
@@ -22,44 +23,6 @@ using cuda::DeviceStore;
 
 constexpr uint32_t kBlock = 128;
 inline uint32_t blocks_for(size_t n) { return uint32_t((n + kBlock - 1) / kBlock); }
-
-// ---------------------------------------------------------------- device copies of the views
-
-SceneView upload_scene(DeviceStore& store, const SceneView& h) {
-  std::vector<MeshView> meshes(h.meshes, h.meshes + h.mesh_count);
-  for (MeshView& m : meshes) {
-    m.positions = store.upload(m.positions, m.vertex_count);
-    m.normals = store.upload(m.normals, m.vertex_count);
-    m.uvs = store.upload(m.uvs, m.vertex_count);
-    m.indices = store.upload(m.indices, size_t(m.triangle_count) * 3);
-  }
-  std::vector<TextureView> textures(h.textures, h.textures + h.texture_count);
-  for (TextureView& t : textures)
-    t.image.pixels = store.upload(t.image.pixels, t.image.empty() ? 0 : size_t(t.image.width) * size_t(t.image.height));
-  SceneView d = h;
-  d.meshes = store.upload(meshes);
-  d.spheres = store.upload(h.spheres, h.sphere_count);
-  d.materials = store.upload(h.materials, h.material_count);
-  d.textures = store.upload(textures);
-  return d;
-}
-
-// lights_view.h's recipe: each array copied, the view's pointers replaced.
-LightsView upload_lights(DeviceStore& store, const LightsView& h) {
-  LightsView d = h;
-  d.emitters = store.upload(h.emitters, h.num_emitters);
-  d.selection.bins = store.upload(h.selection.bins, h.selection.size);
-  d.selection.pmfs = store.upload(h.selection.pmfs, h.selection.size);
-  d.mesh_first = store.upload(h.mesh_first, h.num_meshes);
-  d.sphere_index = store.upload(h.sphere_index, h.num_spheres);
-  d.env_texels = store.upload(h.env_texels, h.env_texels ? size_t(h.env_width) * size_t(h.env_height) : 0);
-  d.env_rows.bins = store.upload(h.env_rows.bins, h.env_rows.size);
-  d.env_rows.pmfs = store.upload(h.env_rows.pmfs, h.env_rows.size);
-  d.env_col_bins = store.upload(h.env_col_bins, h.num_env_col_entries);
-  d.env_col_pmfs = store.upload(h.env_col_pmfs, h.num_env_col_entries);
-  d.env_col_offsets = store.upload(h.env_col_offsets, h.num_env_col_offsets);
-  return d;
-}
 
 // ---------------------------------------------------------------- the stages
 
@@ -204,8 +167,8 @@ class CudaPathTracer final : public Integrator {
     store_.clear();
     uploaded_generation_ = ctx_.accel.generation();
     bvh_ = cuda::upload_bvh(store_, build_bvh(ctx_.scene));
-    world_.scene = upload_scene(store_, ctx_.accel.scene_view());
-    world_.lights = upload_lights(store_, ctx_.lights.view());
+    world_.scene = store_scene_view(store_, ctx_.accel.scene_view());
+    world_.lights = store_lights_view(store_, ctx_.lights.view());
     world_.ray_epsilon = ctx_.accel.ray_epsilon();
   }
 

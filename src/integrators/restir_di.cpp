@@ -6,6 +6,8 @@
 #include <optional>
 
 #include "integrators/di_sampling.h"
+#include "integrators/path_tracer.h"
+#include "integrators/restir_di_cuda.h"
 #include "integrators/reuse_passes.h"
 
 namespace rl {
@@ -27,15 +29,11 @@ namespace {
 // visible a frame earlier, so near a moving occluder's shadow this frame's BVH would give it the
 // wrong support.
 struct DiBridge {
+  DiViewBridge<AccelTracer> view;           // this frame's scene: everything but an animated history
   const RenderContext* ctx;
-  const GSurface* const* surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
-  bool canonical_visibility;        // the canonical target includes visibility
-  bool other_visibility;            // other domains' targets include visibility
   const Lights* history_lights = nullptr;  // temporal pass of an animated scene: domain 1's lights
   bool history_in_previous = true;          // di.history_scene = previous
   const RenderContext* history = nullptr;   // temporal pass: the previous frame's scene and BVH, if kept
-  bool temporal = false;                    // domain 1 is the previous frame
-  bool static_scene = false;                // nothing moves: last frame's scene is this frame's
   bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
     x = y;
     jacobian = 1;
@@ -43,22 +41,16 @@ struct DiBridge {
     if (i == 1 && history_lights) return ctx->lights.follow(y.emitter, *history_lights, x.position, normal);
     return true;
   }
-  // A reservoir's target is di_target at its own surface with the canonical visibility flag: the
-  // canonical one always; another domain's (identity shift) when the other domains' targets use the
-  // same flag and the same scene: a spatial neighbour of this frame, or the history of a static
-  // scene (computed last frame at surfaces[1], in the same scene and lights).
-  bool stored_target_valid(int i) const {
-    return i == 0 || (canonical_visibility == other_visibility && (!temporal || static_scene));
-  }
+  bool stored_target_valid(int i) const { return view.stored_target_valid(i); }
   float target_from(int i, const LightPoint& x) const {
     if (i == 1 && history_in_previous && (history_lights || history)) {
       LightPoint back = x;  // where x was one frame earlier
       Vec3 normal;
       if (history_lights && !history_lights->follow(x.emitter, ctx->lights, back.position, normal)) return 0;
-      return di_target(history ? *history : *ctx, history_lights ? *history_lights : ctx->lights, *surfaces[1], back,
-                       other_visibility);
+      return di_target(history ? *history : *ctx, history_lights ? *history_lights : ctx->lights, *view.surfaces[1], back,
+                       view.other_visibility);
     }
-    return di_target(*ctx, *surfaces[i], x, i == 0 ? canonical_visibility : other_visibility);
+    return view.target_from(i, x);
   }
 };
 
@@ -92,11 +84,14 @@ class RestirDi final : public Integrator {
     const GBuffer& g = c.gbuffer;
     const std::optional<RenderContext> history = previous_context(ctx_, frame);
     const bool static_scene = !scene_animated(ctx_.scene);  // once per frame: it scans the scene
+    const PathWorld world = path_world(ctx_);
+    const AccelTracer tracer{&ctx_.accel};
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
-      return DiBridge{&ctx_, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
-                      temporal ? frame.previous_lights : nullptr, di.history_scene == HistoryScene::previous,
-                      temporal && history && !(ctx_.planted && ctx_.planted->history_visibility_now) ? &*history : nullptr,
-                      temporal, static_scene};
+      return DiBridge{{&world, &tracer, surfaces, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility, temporal, static_scene},
+                      &ctx_,
+                      temporal ? frame.previous_lights : nullptr,
+                      di.history_scene == HistoryScene::previous,
+                      temporal && history && !(ctx_.planted && ctx_.planted->history_visibility_now) ? &*history : nullptr};
     };
 
     // 1. Initial candidates (their emitters, and environment directions, from pre-sampled light
@@ -121,30 +116,16 @@ class RestirDi final : public Integrator {
     c.reuse(rp, frame, make_bridge, seed, s);
 
     // 4. Shading: f(y) W, with visibility traced unless the target already included it.
-    const float eps = ctx_.accel.ray_epsilon();
     StageTimer timer(frame.stages, "shading");
+    const ReuseDebugView dv = c.debug.view();
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
-      const GSurface& sf = g.at(x, y);
       Rgb dbg;
-      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg)) {
+      if (debug_view_value(o.render.debug_view, c.reservoirs[p], dv, p, dbg)) {
         sum[p] += dbg;
         return;
       }
-      Rgb L = sf.valid ? sf.emitted : sf.background;
-      if (sf.valid) {
-        if (bsdf_is_delta(sf.bsdf)) {
-          Pcg32 rng = make_rng(p, f, RngPass::misc, seed, chain);
-          L += di_specular(ctx_, sf, rng);
-        } else if (c.reservoirs[p].has_sample()) {
-          Ray shadow;
-          Rgb contrib = di_unshadowed(ctx_.lights, sf, c.reservoirs[p].sample, eps, &shadow) * c.reservoirs[p].ucw;
-          if (!di.visibility_reuse && ctx_.accel.occluded(shadow)) contrib = Rgb(0);
-          L += contrib;
-        }
-        mark_non_finite(c.reservoirs[p], L);
-      }
-      sum[p] += L;
+      sum[p] += di_shade(world, tracer, g.at(x, y), c.reservoirs[p], di.visibility_reuse, p, f, seed, chain);
     });
 
     c.end_frame();
@@ -160,6 +141,13 @@ class RestirDi final : public Integrator {
 std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx) {
   if (ctx.options.render.debug_view == DebugView::reconnection_depth)
     throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt (DI samples have no path)");
+  if (ctx.options.render.backend == Backend::cuda) {
+    try {
+      return make_cuda_restir_di(ctx);
+    } catch (const std::runtime_error& e) {
+      throw OptionError(std::string("render.backend = cuda: ") + e.what());
+    }
+  }
   return std::make_unique<RestirDi>(ctx);
 }
 

@@ -50,7 +50,7 @@ RESTIR_HD inline float pairwise_fraction(float a, float b) { return a + b > 0 ? 
 
 // p̂_{←i} of input i's own (shifted) sample x: its stored target where the bridge vouches for it.
 template <class Bridge, class Sample>
-float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const Sample& x) {
+RESTIR_HD float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const Sample& x) {
   if constexpr (requires { bridge.stored_target_valid(i); }) {
     if (bridge.stored_target_valid(i)) return in.target;
   }
@@ -62,13 +62,13 @@ float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const
 // Inputs must be finalized (ucw set) and carry their (possibly capped) confidence. The output's
 // confidence is the sum of the inputs' confidences, at most kMaxConfidence; its ucw is set.
 template <class Bridge, class Sample>
-Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, ReuseMis mis, Pcg32& rng,
+RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, ReuseMis mis, Pcg32& rng,
                           CombineInfo* info = nullptr) {
   Reservoir<Sample> out;
   const int n = int(inputs.size());
   float m_sum = 0;
   for (const auto* r : inputs) m_sum += r->confidence;
-  out.confidence = std::min(m_sum, kMaxConfidence);
+  out.confidence = kMaxConfidence < m_sum ? kMaxConfidence : m_sum;  // std::min, by value (device code)
   if (n == 0 || !(m_sum > 0)) return out;
   const float m_c = inputs[0]->confidence, m_rest = m_sum - m_c;
   // A broken canonical reservoir stays broken (its pixel reports it); broken neighbours are skipped.

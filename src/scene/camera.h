@@ -30,7 +30,7 @@ class PerspectiveCamera {
     raster = {(sx / sx_ + 1) * 0.5f * float(width_), (1 - sy / sy_) * 0.5f * float(height_)};
     return raster.x >= 0 && raster.y >= 0 && raster.x < float(width_) && raster.y < float(height_);
   }
-  Vec3 position() const { return position_; }
+  RESTIR_HD Vec3 position() const { return position_; }
   Vec3 forward() const { return forward_; }
   RESTIR_HD int width() const { return width_; }
   RESTIR_HD int height() const { return height_; }

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backends/bvh.h"
@@ -33,6 +34,11 @@ struct DeviceArray {
     data = nullptr, capacity = 0;
     check(cudaMalloc(&data, n * sizeof(T)), "allocating device memory");
     capacity = n;
+  }
+  // Exchanges the two arrays' memory (a pass's output becomes its input).
+  void swap(DeviceArray& o) {
+    std::swap(data, o.data);
+    std::swap(capacity, o.capacity);
   }
   void upload(const T* host, size_t n, cudaStream_t s) {
     reserve(n);

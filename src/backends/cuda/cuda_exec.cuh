@@ -1,0 +1,64 @@
+// The CUDA execution policy (CUDA sources only): device buffers, copies, and one kernel launch per
+// per-pixel stage. host_exec.h documents the interface and is its host twin.
+#pragma once
+#include <cuda_runtime.h>
+
+#include "backends/cuda/device_store.cuh"
+
+namespace rl::cuda {
+
+// 16x8 threads: a block covers a compact patch of pixels, so neighbouring threads read
+// neighbouring G-buffer entries and reservoirs (spatial reuse reads within a radius).
+inline constexpr unsigned kPixelBlockX = 16, kPixelBlockY = 8, kItemBlock = 256;
+
+template <class F>
+__global__ void pixels_kernel(int width, int height, F f) {
+  const int x = int(blockIdx.x * blockDim.x + threadIdx.x), y = int(blockIdx.y * blockDim.y + threadIdx.y);
+  if (x < width && y < height) f(x, y);
+}
+
+template <class F>
+__global__ void items_kernel(size_t n, F f) {
+  const size_t i = size_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < n) f(i);
+}
+
+struct CudaExec {
+  using Store = DeviceStore;
+  template <class T>
+  using Array = DeviceArray<T>;
+
+  template <class T>
+  static void zero(Array<T>& a, size_t n) {
+    if (n) check(cudaMemset(a.data, 0, n * sizeof(T)), "clearing device memory");
+  }
+  template <class T>
+  static void upload(Array<T>& a, const T* host, size_t n) {
+    a.reserve(n);
+    if (n) check(cudaMemcpy(a.data, host, n * sizeof(T), cudaMemcpyHostToDevice), "copying to the device");
+  }
+  template <class T>
+  static void download(T* host, const Array<T>& a, size_t n) {
+    if (n) check(cudaMemcpy(host, a.data, n * sizeof(T), cudaMemcpyDeviceToHost), "copying from the device");
+  }
+  // Synchronous, so that the caller's StageTimer measures the stage and errors name it.
+  template <class F>
+  static void for_pixels(int width, int height, const F& f, const char* what) {
+    const dim3 threads(kPixelBlockX, kPixelBlockY);
+    const dim3 blocks((unsigned(width) + kPixelBlockX - 1) / kPixelBlockX, (unsigned(height) + kPixelBlockY - 1) / kPixelBlockY);
+    pixels_kernel<<<blocks, threads>>>(width, height, f);
+    finish(what);
+  }
+  template <class F>
+  static void for_each(size_t n, const F& f, const char* what) {
+    if (n == 0) return;
+    items_kernel<<<unsigned((n + kItemBlock - 1) / kItemBlock), kItemBlock>>>(n, f);
+    finish(what);
+  }
+  static void finish(const char* what) {
+    check(cudaGetLastError(), what);
+    check(cudaDeviceSynchronize(), what);
+  }
+};
+
+}  // namespace rl::cuda

@@ -1,0 +1,68 @@
+// An execution policy over host memory and threads: the host twin of cuda::CudaExec
+// (cuda_exec.cuh), so that a driver written once for both -- its buffers, copies and per-pixel
+// launches -- also runs, and is tested, on a machine without a GPU.
+//   Exec::Store                 where uploaded views live (view_upload.h)
+//   Exec::Array<T>              a growing buffer: data, capacity, reserve(n), swap(other)
+//   Exec::zero / upload / download (buffer <-> host memory, n elements)
+//   Exec::for_pixels(w, h, f, what)   f(x, y) for every pixel, all done on return
+//   Exec::for_each(n, f, what)        f(i) for i < n, all done on return
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+#include <utility>
+
+#include "backends/view_upload.h"
+#include "core/parallel.h"
+
+namespace rl {
+
+struct HostExec {
+  using Store = HostStore;
+
+  template <class T>
+  struct Array {
+    T* data = nullptr;
+    size_t capacity = 0;
+    void reserve(size_t n) {
+      if (n <= capacity) return;
+      mem_ = std::make_unique<T[]>(n);
+      data = mem_.get();
+      capacity = n;
+    }
+    void swap(Array& o) {
+      std::swap(mem_, o.mem_);
+      std::swap(data, o.data);
+      std::swap(capacity, o.capacity);
+    }
+
+   private:
+    std::unique_ptr<T[]> mem_;
+  };
+
+  template <class T>
+  static void zero(Array<T>& a, size_t n) {
+    std::fill_n(a.data, n, T{});
+  }
+  template <class T>
+  static void upload(Array<T>& a, const T* host, size_t n) {
+    a.reserve(n);
+    std::copy_n(host, n, a.data);
+  }
+  template <class T>
+  static void download(T* host, const Array<T>& a, size_t n) {
+    std::copy_n(a.data, n, host);
+  }
+  template <class F>
+  static void for_pixels(int width, int height, const F& f, const char*) {
+    parallel_for_pixels(width, height, [&](int x, int y) { f(x, y); });
+  }
+  template <class F>
+  static void for_each(size_t n, const F& f, const char*) {
+    parallel_for_chunks(n, 4096, [&](size_t a, size_t b) {
+      for (size_t i = a; i < b; ++i) f(i);
+    });
+  }
+};
+
+}  // namespace rl

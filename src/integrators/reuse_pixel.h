@@ -1,0 +1,138 @@
+// One pixel of the temporal and of the spatial reuse pass shared by the ReSTIR integrators,
+// RESTIR_HD over flat buffers: the CPU's passes (reuse_passes.h) run them in a loop over the
+// pixels, the CUDA backend's kernels one thread per pixel. They own the pixel bookkeeping --
+// reprojection, neighbour choice, similarity rejection, M-cap, debug counters -- and hand the
+// resampling to restir::combine() through the integrator's bridge, made per pixel from the
+// surfaces of the inputs (index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).
+#pragma once
+#include <cstdint>
+#include <span>
+
+#include "core/rng.h"
+#include "integrators/gbuffer.h"
+#include "integrators/options.h"
+#include "restir/mis.h"
+#include "restir/neighbors.h"
+
+namespace rl {
+
+inline constexpr int kMaxReuseNeighbors = 64;
+
+// A frame's G-buffer as flat memory.
+struct GBufferView {
+  const GSurface* pixels = nullptr;
+  int width = 0, height = 0;
+  RESTIR_HD const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height}; }
+
+// Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).
+struct ReuseDebugView {
+  uint8_t* source;             // 0 own sample, 1 temporal, 2 spatial
+  uint16_t* tried, *rejected;  // reuse candidates considered / rejected (or shift failed)
+  RESTIR_HD float rejected_fraction(size_t p) const { return tried[p] ? float(rejected[p]) / float(tried[p]) : 0.0f; }
+};
+
+// Which random streams a pass reads: frame, render seed, chain (pixel sample).
+struct ReuseFrame {
+  uint32_t frame = 0;
+  uint64_t seed = 0;
+  uint32_t chain = 0;
+};
+
+// The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
+// reconnection_depth: the final sample's reconnection vertex, for integrators that have one
+// (ReSTIR PT); the others reject that view when they are made.
+template <class Sample>
+RESTIR_HD bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, const ReuseDebugView& dbg, size_t p, Rgb& out,
+                                int reconnection_depth = 0) {
+  switch (view) {
+    case DebugView::none: return false;
+    case DebugView::confidence: out = Rgb(r.confidence); return true;
+    case DebugView::reuse_source: out = Rgb(float(dbg.source[p])); return true;
+    case DebugView::rejected_shifts: out = Rgb(dbg.rejected_fraction(p)); return true;
+    case DebugView::reconnection_depth: out = Rgb(float(reconnection_depth)); return true;
+  }
+  return false;
+}
+
+// Temporal reuse at pixel (x, y): its reservoir combined with last frame's final reservoir at the
+// reprojected pixel (if that surface is similar), the history's confidence capped (M-cap), into next.
+template <class Res, class MakeBridge>
+RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, const GBufferView& previous_g,
+                              const PerspectiveCamera& previous_camera, const Res* reservoirs, const Res* history, Res* next,
+                              const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y) {
+  const uint32_t p = uint32_t(y * g.width + x);
+  const GSurface& cur = g.at(x, y);
+  next[p] = reservoirs[p];
+  if (!cur.valid) return;
+  ++dbg.tried[p];
+  int px, py;
+  // Motion vector: where the point was a frame earlier (its object's animation), seen by the
+  // previous camera.
+  if (!reproject(previous_camera, cur.p_previous, px, py)) {
+    ++dbg.rejected[p];
+    return;
+  }
+  const GSurface& prev = previous_g.at(px, py);
+  GSurface expected = cur;  // the current point as the previous camera saw it
+  expected.p = cur.p_previous;
+  expected.ns = cur.ns_previous;
+  expected.depth = length(cur.p_previous - previous_camera.position());
+  // Depth / normal rejection only when asked for (*.similarity_rejection), as in the spatial pass.
+  if (!prev.valid || (rp.similarity_rejection && !similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold))) {
+    ++dbg.rejected[p];
+    return;
+  }
+  Res hist = history[size_t(py * g.width + px)];
+  hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, float(rp.max_history));
+  const GSurface* surfaces[2] = {&cur, &prev};
+  const Res* inputs[2] = {&reservoirs[p], &hist};
+  auto bridge = make_bridge(surfaces, 2, true);
+  Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
+  restir::CombineInfo info;
+  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
+  dbg.rejected[p] += uint16_t(info.failed_shifts);
+  if (info.selected == 1) dbg.source[p] = 1;
+}
+
+// Spatial reuse round `round` at pixel (x, y): its reservoir combined with those of up to
+// spatial_neighbors pixels on a rotated golden-angle spiral within spatial_radius, into next.
+template <class Res, class MakeBridge>
+RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, Res* next, const MakeBridge& make_bridge,
+                             const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y) {
+  const int w = g.width, h = g.height;
+  const int k = rp.spatial_neighbors < kMaxReuseNeighbors ? rp.spatial_neighbors : kMaxReuseNeighbors;
+  const uint32_t p = uint32_t(y * w + x);
+  const GSurface& cur = g.at(x, y);
+  next[p] = reservoirs[p];
+  if (!cur.valid) return;
+  Pcg32 rng = make_rng(p, f.frame, RngPass::spatial, f.seed, f.chain * 16u + uint32_t(round));
+  const GSurface* surfaces[kMaxReuseNeighbors + 1];
+  const Res* inputs[kMaxReuseNeighbors + 1];
+  surfaces[0] = &cur;
+  inputs[0] = &reservoirs[p];
+  int n = 1;
+  const float rotation = rng.next_float();
+  for (int j = 0; j < k; ++j) {
+    const Vec2 off = restir::spatial_offset(j, k, rp.spatial_radius, rotation);
+    const int nx = x + int(lroundf(off.x)), ny = y + int(lroundf(off.y));
+    ++dbg.tried[p];
+    const bool inside = !(nx == x && ny == y) && nx >= 0 && ny >= 0 && nx < w && ny < h;
+    if (!inside || !g.at(nx, ny).valid ||
+        (rp.similarity_rejection && !similar_surfaces(cur, g.at(nx, ny), rp.depth_threshold, rp.normal_threshold))) {
+      ++dbg.rejected[p];
+      continue;
+    }
+    surfaces[n] = &g.at(nx, ny);
+    inputs[n] = &reservoirs[size_t(ny * w + nx)];
+    ++n;
+  }
+  auto bridge = make_bridge(surfaces, n, false);
+  restir::CombineInfo info;
+  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, size_t(n)), rp.spatial_mis, rng, &info);
+  dbg.rejected[p] += uint16_t(info.failed_shifts);
+  if (info.selected > 0) dbg.source[p] = 2;
+}
+
+}  // namespace rl
