@@ -4,7 +4,9 @@
 //     CPU cores (batched) and through the CUDA kernels (device time alone, CUDA events); rays/s of
 //     each and their ratio;
 //   - the path tracer `pt`, render.backend = cpu vs cuda: ms per frame, the ratio, and the GPU's
-//     rays/s over the whole frame (issue 16: >= 1 billion on the Cornell box).
+//     rays/s over the whole frame (issue 16: >= 1 billion on the Cornell box);
+//   - ReSTIR DI `restir-di` (defaults, --di-scene: many-lights), cpu vs cuda: ms per frame after
+//     the first (issue 16: <= 5 ms on the H200 at 1920x1080) and the ratio.
 // Without a usable GPU it prints why and exits 77 (nothing measured). Default 1920x1080, 1 spp.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -46,7 +48,8 @@ void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::ve
   });
 }
 
-double pt_frame_ms(const Scene& scene, Options o, Backend backend, int frames) {
+double frame_ms(const Scene& scene, Options o, const std::string& integrator, Backend backend, int frames) {
+  o.integrator = integrator;
   o.render.backend = backend;
   o.render.frames = frames;
   RenderResult r = render(scene, o);
@@ -67,6 +70,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "kernel repetitions (the best is reported)");
   app.add_option("--frames", frames, "path-traced frames per backend (the median after the first is reported)");
   app.add_option("--scene", scenes, "scenes to measure");
+  std::vector<std::string> di_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"};
+  app.add_option("--di-scene", di_scenes, "scenes to measure ReSTIR DI in");
   CLI11_PARSE(app, argc, argv);
   if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
     fmt::print("bench_gpu: skipped: {}\n", why);
@@ -98,7 +103,7 @@ int main(int argc, char** argv) {
     const CudaRayTiming any = cuda_time_rays(scene, shadow, repeats);
     const double cuda_ms = closest.closest_ms + any.any_ms;
     const double total = double(rays.size() + shadow.size());
-    const double cpu_pt = pt_frame_ms(scene, o, Backend::cpu, frames), gpu_pt = pt_frame_ms(scene, o, Backend::cuda, frames);
+    const double cpu_pt = frame_ms(scene, o, "pt", Backend::cpu, frames), gpu_pt = frame_ms(scene, o, "pt", Backend::cuda, frames);
     const std::string name = path.substr(path.find_last_of('/') + 1);
     fmt::print("{} {}x{} {} spp: {} rays ({} shadow)\n", name, width, height, spp, rays.size() + shadow.size(), shadow.size());
     fmt::print("  traversal: Embree (CPU, {} rays batched) {:.1f} ms = {:.1f} Mrays/s; CUDA kernels {:.2f} ms = {:.1f} Mrays/s "
@@ -109,6 +114,15 @@ int main(int argc, char** argv) {
     // recorded ray count is the GPU frame's too.
     fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms; cpu/cuda {:.1f}x; cuda {:.2f} Grays/s (closest + shadow rays per ms)\n",
                cpu_pt, gpu_pt, cpu_pt / gpu_pt, total / gpu_pt * 1e-6);
+  }
+  for (const std::string& path : di_scenes) {
+    Scene scene = load_scene(path);
+    Options o;
+    apply_scene_hints(o, scene.hints);
+    o.film.width = width, o.film.height = height, o.render.spp = spp;
+    const double cpu = frame_ms(scene, o, "restir-di", Backend::cpu, frames), gpu = frame_ms(scene, o, "restir-di", Backend::cuda, frames);
+    fmt::print("{} {}x{} {} spp: restir-di frame (defaults): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
+               path.substr(path.find_last_of('/') + 1), width, height, spp, cpu, gpu, cpu / gpu);
   }
   return 0;
 }

@@ -7,34 +7,13 @@
 #include <cmath>
 
 #include "integrators/restir_di_cuda.h"
+#include "frame_loop.h"
 #include "test_helpers.h"
 
 using namespace rl;
 using namespace rl::test;
 
 namespace {
-
-using Make = std::unique_ptr<Integrator> (*)(const RenderContext&);
-std::unique_ptr<Integrator> make_cpu_restir_di(const RenderContext& ctx) { return make_integrator("restir-di", ctx); }
-
-// `frames` frames of a static scene as FrameRenderer renders them (one camera, the previous
-// frame's passed on), through the integrator `make` builds.
-std::vector<Image> render_frames(const Scene& scene, const Options& o, Make make, int frames) {
-  Accel accel(scene);
-  Lights lights(scene, o.render.light_selection);
-  const RenderContext ctx{scene, accel, lights, o, nullptr, nullptr};
-  const auto integrator = make(ctx);
-  const PerspectiveCamera camera(scene.camera.keys.empty() ? CameraKey{} : scene.camera.keys.front(), o.film.width, o.film.height);
-  std::vector<Image> out;
-  for (int f = 0; f < frames; ++f) {
-    FrameInfo info;
-    info.index = f, info.count = frames, info.camera = &camera, info.previous_camera = f > 0 ? &camera : nullptr;
-    Image img(o.film.width, o.film.height);
-    integrator->render_frame(info, img);
-    out.push_back(std::move(img));
-  }
-  return out;
-}
 
 // Share of pixels whose values agree to 1e-4 (relative, or absolute below 1e-3), and the ratio of
 // the two images' means.
