@@ -69,7 +69,14 @@ PathSettings path_settings(const Options& o);
 // Russian roulette's survival probability after reaching a vertex with this BSDF: its albedo
 // (max component; 1 for dielectrics). A property of the vertex alone, so that reconnection shifts,
 // which keep the suffix's vertices, keep its roulette decisions too (see pt_path.cpp).
-float roulette_survival(const Bsdf& b);
+RESTIR_HD inline float roulette_survival(const Bsdf& b) {
+  switch (b.type) {
+    case Material::Type::diffuse: return std::min(1.0f, max_component(b.reflectance));
+    case Material::Type::conductor: return std::min(1.0f, max_component(bsdf_conductor_fresnel(b, 1.0f)));
+    case Material::Type::dielectric: return 1.0f;
+  }
+  return 1.0f;
+}
 
 // Traces `candidates` walks from the primary surface s and resamples one path among all the
 // paths they contain (NEE connections and BSDF emitter hits, each MIS-weighted): weight
