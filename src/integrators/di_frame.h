@@ -1,23 +1,14 @@
 // ReSTIR DI's frame as a sequence of per-pixel stages over flat buffers, written once for any
 // execution policy (host_exec.h): the CUDA backend runs it with cuda::CudaExec (restir_di_cuda.cu),
-// and its host twin with HostExec over the same BVH traversal (restir_di_twin.cpp), so that CI
-// proves the driver -- buffers, stage order, random streams, history -- without a GPU.
+// and its host twin with HostExec over the same BVH traversal (frame_twins.cpp), so that CI proves
+// the driver -- buffers, stage order, random streams, tiles, history -- without a GPU.
 // The stages are those of the CPU's restir_di.cpp, in its order, with its random streams: primary
 // hits, light tiles (drawn on the host, copied), initial candidates, temporal reuse, the spatial
 // rounds, shading; each pixel's work is di_pixel.h's and reuse_pixel.h's, the code the CPU runs.
-// Static scenes only so far: an animated scene's history needs the previous frame's lights and
-// BVH on the device (the CPU's DiBridge).
 #pragma once
-#include <memory>
-#include <vector>
-
-#include "backends/bvh.h"
-#include "backends/bvh_traverse.h"
-#include "backends/view_upload.h"
 #include "integrators/di_pixel.h"
 #include "integrators/di_sampling.h"
-#include "integrators/path_tracer.h"
-#include "integrators/reuse_pixel.h"
+#include "integrators/reuse_frame.h"
 
 namespace rl {
 
@@ -48,22 +39,6 @@ struct Tiles {
   }
 };
 
-// build_gbuffer's pixel, traced in the BVH. A static scene: no motion (its maps are empty there too).
-struct PrimaryStage {
-  PathWorld w;
-  BvhView bvh;
-  PerspectiveCamera camera;
-  CameraSampling sampling;
-  int frame, sample;
-  GSurface* g;
-  RESTIR_HD void operator()(int x, int y) const {
-    const Ray ray = camera_ray(sampling, camera, x, y, frame, sample);
-    Hit hit;
-    const bool found = bvh_trace(bvh, ray, false, &hit);
-    fill_gsurface(w.scene, w.lights, ray, found ? &hit : nullptr, g[size_t(y) * size_t(camera.width()) + size_t(x)], nullptr, 0);
-  }
-};
-
 struct CandidateStage {
   PathWorld w;
   BvhTracer tracer;
@@ -78,32 +53,6 @@ struct CandidateStage {
     out[p] = di_initial_reservoir_in(w, tracer, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng,
                                      tiles.of(x, y, g.width, f));
   }
-};
-
-struct TemporalStage {
-  Bridges bridges;
-  ReuseOptions rp;
-  GBufferView g, previous_g;
-  PerspectiveCamera previous_camera;
-  const DiReservoir *reservoirs, *history;
-  DiReservoir* next;
-  ReuseFrame f;
-  ReuseDebugView dbg;
-  RESTIR_HD void operator()(int x, int y) const {
-    temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y);
-  }
-};
-
-struct SpatialStage {
-  Bridges bridges;
-  ReuseOptions rp;
-  GBufferView g;
-  const DiReservoir* reservoirs;
-  DiReservoir* next;
-  ReuseFrame f;
-  int round;
-  ReuseDebugView dbg;
-  RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y); }
 };
 
 struct ShadeStage {
@@ -127,112 +76,46 @@ struct ShadeStage {
   }
 };
 
-// render_chains' average: a division, as the CPU's, for the same rounding.
-struct AverageStage {
-  Rgb* sum;
-  float spp;
-  RESTIR_HD void operator()(size_t i) const { sum[i] = sum[i] / spp; }
-};
-
 }  // namespace di_frame_detail
 
 template <class Exec>
 class DiFrameRenderer final : public Integrator {
  public:
-  explicit DiFrameRenderer(const RenderContext& ctx) : ctx_(ctx) { upload_world(); }
+  explicit DiFrameRenderer(const RenderContext& ctx) : ctx_(ctx) { check_frame_supported(ctx, "restir-di"); }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
-    if (ctx_.accel.generation() != uploaded_generation_) {  // frame 0 again after FrameRenderer::reset
-      StageTimer timer(frame.stages, "upload");
-      upload_world();
-    }
-    const int spp = ctx_.options.render.spp;
-    if (int(chains_.size()) != spp) {
-      chains_.clear();
-      for (int s = 0; s < spp; ++s) chains_.push_back(std::make_unique<Chain>());
-    }
-    const size_t pixels = out.size();
-    sum_.reserve(pixels);
-    Exec::zero(sum_, pixels);
-    for (int s = 0; s < spp; ++s) render_chain(frame, s, *chains_[size_t(s)]);
-    Exec::for_each(pixels, di_frame_detail::AverageStage{sum_.data, float(spp)}, "averaging the chains");
-    Exec::download(out.pixels.data(), sum_, pixels);
+    world_.update(ctx_, frame);
+    render_exec_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
   }
 
  private:
-  template <class T>
-  using Array = typename Exec::template Array<T>;
-
-  // One chain (pixel sample) of reservoirs: ReservoirChain's buffers in the policy's memory.
-  struct Chain {
-    Array<GSurface> gbuffer, previous_gbuffer;
-    Array<DiReservoir> reservoirs, previous, scratch;
-    Array<uint8_t> source;
-    Array<uint16_t> tried, rejected;
-    Array<LightTileEntry> tiles;
-    Array<EnvTileEntry> env_tiles;
-    int previous_width = 0, previous_height = 0;
-    bool has_history = false;
-    ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
+  struct Chain : ExecChain<Exec, DiReservoir> {
+    typename Exec::template Array<LightTileEntry> tiles;
+    typename Exec::template Array<EnvTileEntry> env_tiles;
   };
 
   void render_chain(const FrameInfo& frame, int s, Chain& c) {
     using namespace di_frame_detail;
     const Options& o = ctx_.options;
     const DiOptions& di = o.di;
-    const ReuseOptions& rp = di.reuse;
-    const PerspectiveCamera& camera = *frame.camera;
-    const int w = camera.width(), h = camera.height();
     const ReuseFrame f{uint32_t(frame.index), o.render.seed, uint32_t(s)};
-    const BvhTracer tracer{bvh_};
-    begin_frame(frame, s, c);
-    const GBufferView g{c.gbuffer.data, w, h};
+    const BvhTracer tracer{world_.bvh};
+    c.begin_frame(world_, o, frame, s);
     upload_tiles(frame, f, c);
     {
       StageTimer timer(frame.stages, "candidates");
       const Tiles tiles{c.tiles.data, c.env_tiles.data, tiles_.count(), tiles_.size(), tiles_.env_size()};
-      Exec::for_pixels(w, h, CandidateStage{world_, tracer, di, f, g, tiles, c.reservoirs.data}, "ReSTIR DI candidates");
+      Exec::for_pixels(c.width, c.height, CandidateStage{world_.world, tracer, di, f, c.view(), tiles, c.reservoirs.data},
+                       "ReSTIR DI candidates");
     }
-    const Bridges bridges{world_, tracer, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility};
-    if (rp.temporal && c.has_history && c.previous_width == w && c.previous_height == h) {
-      StageTimer timer(frame.stages, "temporal");
-      const PerspectiveCamera& previous_camera = frame.previous_camera ? *frame.previous_camera : camera;
-      const TemporalStage stage{bridges, rp, g, GBufferView{c.previous_gbuffer.data, w, h}, previous_camera, c.reservoirs.data,
-                                c.previous.data, c.scratch.data, f, c.debug()};
-      Exec::for_pixels(w, h, stage, "ReSTIR DI temporal reuse");
-      c.reservoirs.swap(c.scratch);
-    }
-    {
-      StageTimer timer(frame.stages, "spatial");
-      for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
-        Exec::for_pixels(w, h, SpatialStage{bridges, rp, g, c.reservoirs.data, c.scratch.data, f, round, c.debug()},
-                         "ReSTIR DI spatial reuse");
-        c.reservoirs.swap(c.scratch);
-      }
-    }
+    c.reuse(di.reuse, frame, Bridges{world_.world, tracer, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility}, f);
     {
       StageTimer timer(frame.stages, "shading");
-      const ShadeStage stage{world_, tracer, g, c.reservoirs.data, di.visibility_reuse, o.render.debug_view, c.debug(), f, sum_.data};
-      Exec::for_pixels(w, h, stage, "ReSTIR DI shading");
+      const ShadeStage stage{world_.world,        tracer,    c.view(), c.reservoirs.data, di.visibility_reuse,
+                             o.render.debug_view, c.debug(), f,        sum_.data};
+      Exec::for_pixels(c.width, c.height, stage, "ReSTIR DI shading");
     }
-    // ReservoirChain::end_frame: this frame's reservoirs and surfaces are the next frame's history.
-    c.previous.swap(c.reservoirs);
-    c.previous_gbuffer.swap(c.gbuffer);
-    c.previous_width = w, c.previous_height = h;
-    c.has_history = true;
-  }
-
-  // Primary hits of chain s, buffers sized for the frame, debug counters cleared.
-  void begin_frame(const FrameInfo& frame, int s, Chain& c) {
-    StageTimer timer(frame.stages, "primary");
-    const PerspectiveCamera& camera = *frame.camera;
-    const size_t n = size_t(camera.width()) * size_t(camera.height());
-    c.gbuffer.reserve(n), c.previous_gbuffer.reserve(n);
-    c.reservoirs.reserve(n), c.previous.reserve(n), c.scratch.reserve(n);
-    c.source.reserve(n), c.tried.reserve(n), c.rejected.reserve(n);
-    Exec::zero(c.source, n), Exec::zero(c.tried, n), Exec::zero(c.rejected, n);
-    const di_frame_detail::PrimaryStage stage{world_, bvh_, camera, camera_sampling(ctx_.options), frame.index, s, c.gbuffer.data};
-    Exec::for_pixels(camera.width(), camera.height(), stage, "ReSTIR DI primary hits");
+    c.end_frame();
   }
 
   // This frame's light tiles for chain f.chain, drawn on the host (LightTiles::build, the CPU's
@@ -248,24 +131,11 @@ class DiFrameRenderer final : public Integrator {
     Exec::upload(c.env_tiles, tiles_.env_entries().data(), tiles_.env_entries().size());
   }
 
-  // The scene, lights and BVH as they are now, in the policy's memory.
-  void upload_world() {
-    store_.clear();
-    uploaded_generation_ = ctx_.accel.generation();
-    bvh_ = store_bvh_view(store_, build_bvh(ctx_.scene));
-    world_.scene = store_scene_view(store_, ctx_.accel.scene_view());
-    world_.lights = store_lights_view(store_, ctx_.lights.view());
-    world_.ray_epsilon = ctx_.accel.ray_epsilon();
-  }
-
   RenderContext ctx_;
-  uint64_t uploaded_generation_ = 0;
-  typename Exec::Store store_;
-  BvhView bvh_;
-  PathWorld world_;
+  ExecWorld<Exec> world_;
   LightTiles tiles_;  // the host's copy of the current chain's tiles
   std::vector<std::unique_ptr<Chain>> chains_;
-  Array<Rgb> sum_;
+  typename Exec::template Array<Rgb> sum_;
 };
 
 }  // namespace rl

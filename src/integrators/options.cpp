@@ -121,11 +121,11 @@ void validate_options(const Options& o) {
   // No candidate at all: every ReSTIR DI pixel would be black, silently.
   if (o.integrator == "restir-di" && o.di.light_candidates == 0 && o.di.bsdf_candidates == 0)
     throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");
-  // The CUDA backend runs pt and restir-di; the other integrators still trace ray by ray on the
-  // CPU, and running them "on cuda" would silently run them on the CPU.
-  if (o.render.backend == Backend::cuda && o.integrator != "pt" && o.integrator != "restir-di")
-    throw OptionError(
-        fmt::format("render.backend = cuda: only pt and restir-di run on the CUDA backend so far, not {}", o.integrator));
+  // The CUDA backend runs pt, restir-di and restir-pt; the other integrators still trace ray by ray
+  // on the CPU, and running them "on cuda" would silently run them on the CPU.
+  if (o.render.backend == Backend::cuda && o.integrator != "pt" && o.integrator != "restir-di" && o.integrator != "restir-pt")
+    throw OptionError(fmt::format("render.backend = cuda: only pt, restir-di and restir-pt run on the CUDA backend so far, not {}",
+                                  o.integrator));
 }
 
 }  // namespace rl

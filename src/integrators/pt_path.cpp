@@ -1,5 +1,8 @@
 #include "integrators/pt_path.h"
 
+#include <cstdio>
+#include <string>
+
 #include "integrators/di_sampling.h"
 #include "integrators/path_tracer.h"
 #include "integrators/pt_path_kernel.h"
@@ -39,6 +42,19 @@ std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings&
 bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1, PathSample& out,
                 float& jacobian) {
   return shift_path_in(path_world(ctx), AccelTracer{&ctx.accel}, ps, base, y1, out, jacobian);
+}
+
+void print_reconnection_histogram(int frame, int chain, std::span<const PathReservoir> reservoirs) {
+  std::vector<size_t> count;
+  for (const PathReservoir& r : reservoirs) {
+    const size_t k = r.has_sample() ? size_t(r.sample.rc) : 0;
+    if (count.size() <= k) count.resize(k + 1, 0);
+    ++count[k];
+  }
+  std::string line = "restir-pt frame " + std::to_string(frame) + " chain " + std::to_string(chain) + ": reconnection depth histogram";
+  for (size_t k = 0; k < count.size(); ++k)
+    if (count[k]) line += " k=" + std::to_string(k) + ":" + std::to_string(count[k]);
+  std::fprintf(stderr, "%s\n", line.c_str());
 }
 
 }  // namespace rl

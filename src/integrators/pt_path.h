@@ -19,6 +19,7 @@
 //     |cos θ_k^y| / |cos θ_k^x| · |x_k − x_{k−1}|² / |x_k − y_{k−1}|²,  and 1 when x_k is the emitter
 //     vertex (area measure); the replayed prefix contributes the pdf ratio above.
 #pragma once
+#include <span>
 #include <vector>
 
 #include "integrators/gbuffer.h"
@@ -93,5 +94,9 @@ std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings&
 // contribution); else `out` lives in the new domain and jacobian = |∂ȳ/∂x̄|.
 bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
                 PathSample& out, float& jacobian);
+
+// The reconnection-depth debug view's histogram of one chain's final reservoirs (k = 0: no
+// reconnection), one line on stderr.
+void print_reconnection_histogram(int frame, int chain, std::span<const PathReservoir> reservoirs);
 
 }  // namespace rl

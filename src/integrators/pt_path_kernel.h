@@ -501,4 +501,25 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
   return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
 }
 
+// The bridge of mis.h for paths in a scene where nothing moves: shifts evaluate the path at the
+// other pixel's primary hit (restir_pt.cpp's PtBridge adds an animated scene's history and the
+// planted biases of the tests).
+template <class Tracer>
+struct PtViewBridge {
+  const PathWorld* world;
+  const Tracer* tracer;
+  const PathSettings* ps;
+  const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
+  RESTIR_HD bool shift_to_canonical(int, const PathSample& y, PathSample& x, float& jacobian) const {
+    return shift_path_in(*world, *tracer, *ps, y, *surfaces[0], x, jacobian);
+  }
+  RESTIR_HD float target_from(int i, const PathSample& x) const {
+    if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
+    PathSample y;
+    float jacobian;
+    if (!shift_path_in(*world, *tracer, *ps, x, *surfaces[i], y, jacobian)) return 0;
+    return luminance(y.contribution) * jacobian;
+  }
+};
+
 }  // namespace rl

@@ -7,7 +7,7 @@
 
 #include "integrators/di_sampling.h"
 #include "integrators/path_tracer.h"
-#include "integrators/restir_di_cuda.h"
+#include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
 
 namespace rl {

@@ -3,11 +3,10 @@
 // from neighbouring pixels through a shift mapping (reconnection, random replay or hybrid; see
 // pt_path.h), then shaded with one path. The reference is the path tracer with the same path.*
 // options (emission seen directly at the primary hit is added as is).
-#include <cstdio>
 #include <optional>
-#include <string>
 
 #include "integrators/pt_path.h"
+#include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
 
 namespace rl {
@@ -129,22 +128,8 @@ class RestirPt final : public Integrator {
       sum[p] += L;
     });
 
-    if (o.render.debug_view == DebugView::reconnection_depth) print_depth_histogram(frame.index, s, c);
+    if (o.render.debug_view == DebugView::reconnection_depth) print_reconnection_histogram(frame.index, s, c.reservoirs);
     c.end_frame();
-  }
-
-  // The reconnection-depth debug view also prints its histogram (k = 0: no reconnection).
-  static void print_depth_histogram(int frame, int chain, const Chain& c) {
-    std::vector<size_t> count;
-    for (const PathReservoir& r : c.reservoirs) {
-      const size_t k = r.has_sample() ? size_t(r.sample.rc) : 0;
-      if (count.size() <= k) count.resize(k + 1, 0);
-      ++count[k];
-    }
-    std::string line = "restir-pt frame " + std::to_string(frame) + " chain " + std::to_string(chain) + ": reconnection depth histogram";
-    for (size_t k = 0; k < count.size(); ++k)
-      if (count[k]) line += " k=" + std::to_string(k) + ":" + std::to_string(count[k]);
-    std::fprintf(stderr, "%s\n", line.c_str());
   }
 
   RenderContext ctx_;
@@ -168,6 +153,13 @@ std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
     throw OptionError("restir-pt: unbiased temporal reuse in an animated scene needs pt.shift=random-replay (a reconnected "
                       "path keeps the previous frame's vertices and cached radiance); set pt.shift=random-replay, or "
                       "pt.history_scene=current (biased), or pt.temporal=false");
+  if (o.render.backend == Backend::cuda) {
+    try {
+      return make_cuda_restir_pt(ctx);
+    } catch (const std::runtime_error& e) {
+      throw OptionError(std::string("render.backend = cuda: ") + e.what());
+    }
+  }
   return std::make_unique<RestirPt>(ctx);
 }
 

@@ -9,7 +9,7 @@
 
 #include "backends/bvh_queries.h"
 #include "backends/cuda/cuda_queries.h"
-#include "integrators/restir_di_cuda.h"
+#include "integrators/restir_cuda.h"
 #include "integrators/render.h"
 #include "scene/animation.h"
 #include "frame_loop.h"

@@ -1,0 +1,23 @@
+// ReSTIR DI's and PT's frames (di_frame.h, pt_frame.h) on the host: the CUDA backend's drivers with
+// the host execution policy, for tests on machines without a GPU (restir_cuda.h).
+#include <stdexcept>
+#include <string>
+
+#include "backends/host_exec.h"
+#include "integrators/di_frame.h"
+#include "integrators/pt_frame.h"
+#include "integrators/restir_cuda.h"
+
+namespace rl {
+
+void check_frame_supported(const RenderContext& ctx, const char* integrator) {
+  if (scene_animated(ctx.scene))
+    throw std::runtime_error(std::string(integrator) +
+                             " runs on the CUDA backend for static scenes only so far (this scene is animated: use render.backend = cpu)");
+  if (ctx.planted) throw std::runtime_error("planted biases are a CPU test harness: use render.backend = cpu");
+}
+
+std::unique_ptr<Integrator> make_host_twin_restir_di(const RenderContext& ctx) { return std::make_unique<DiFrameRenderer<HostExec>>(ctx); }
+std::unique_ptr<Integrator> make_host_twin_restir_pt(const RenderContext& ctx) { return std::make_unique<PtFrameRenderer<HostExec>>(ctx); }
+
+}  // namespace rl
