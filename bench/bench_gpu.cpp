@@ -5,8 +5,9 @@
 //     each and their ratio;
 //   - the path tracer `pt`, render.backend = cpu vs cuda: ms per frame, the ratio, and the GPU's
 //     rays/s over the whole frame (issue 16: >= 1 billion on the Cornell box);
-//   - ReSTIR DI `restir-di` (defaults, --di-scene: many-lights), cpu vs cuda: ms per frame after
-//     the first (issue 16: <= 5 ms on the H200 at 1920x1080) and the ratio.
+//   - ReSTIR DI `restir-di` (defaults, --di-scene: many-lights) and ReSTIR PT `restir-pt` (defaults:
+//     hybrid, depth 5, 3 neighbours, temporal reuse; --pt-scene: the teapot), cpu vs cuda: ms per
+//     frame after the first and the ratio (issue 16 on the H200 at 1920x1080: DI <= 5 ms, PT <= 33 ms).
 // Without a usable GPU it prints why and exits 77 (nothing measured). Default 1920x1080, 1 spp.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -72,6 +73,8 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scenes, "scenes to measure");
   std::vector<std::string> di_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"};
   app.add_option("--di-scene", di_scenes, "scenes to measure ReSTIR DI in");
+  std::vector<std::string> pt_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
+  app.add_option("--pt-scene", pt_scenes, "scenes to measure ReSTIR PT in");
   CLI11_PARSE(app, argc, argv);
   if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
     fmt::print("bench_gpu: skipped: {}\n", why);
@@ -115,14 +118,15 @@ int main(int argc, char** argv) {
     fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms; cpu/cuda {:.1f}x; cuda {:.2f} Grays/s (closest + shadow rays per ms)\n",
                cpu_pt, gpu_pt, cpu_pt / gpu_pt, total / gpu_pt * 1e-6);
   }
-  for (const std::string& path : di_scenes) {
-    Scene scene = load_scene(path);
-    Options o;
-    apply_scene_hints(o, scene.hints);
-    o.film.width = width, o.film.height = height, o.render.spp = spp;
-    const double cpu = frame_ms(scene, o, "restir-di", Backend::cpu, frames), gpu = frame_ms(scene, o, "restir-di", Backend::cuda, frames);
-    fmt::print("{} {}x{} {} spp: restir-di frame (defaults): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
-               path.substr(path.find_last_of('/') + 1), width, height, spp, cpu, gpu, cpu / gpu);
-  }
+  for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-pt", &pt_scenes}})
+    for (const std::string& path : *list) {
+      Scene scene = load_scene(path);
+      Options o;
+      apply_scene_hints(o, scene.hints);
+      o.film.width = width, o.film.height = height, o.render.spp = spp;
+      const double cpu = frame_ms(scene, o, integrator, Backend::cpu, frames), gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
+      fmt::print("{} {}x{} {} spp: {} frame (defaults): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
+                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, cpu, gpu, cpu / gpu);
+    }
   return 0;
 }

@@ -18,6 +18,8 @@ void check_frame_supported(const RenderContext& ctx, const char* integrator) {
 }
 
 std::unique_ptr<Integrator> make_host_twin_restir_di(const RenderContext& ctx) { return std::make_unique<DiFrameRenderer<HostExec>>(ctx); }
-std::unique_ptr<Integrator> make_host_twin_restir_pt(const RenderContext& ctx) { return std::make_unique<PtFrameRenderer<HostExec>>(ctx); }
+std::unique_ptr<Integrator> make_host_twin_restir_pt(const RenderContext& ctx) {
+  return std::make_unique<PtFrameRenderer<HostExec>>(ctx, &make_host_twin_restir_di);
+}
 
 }  // namespace rl

@@ -1,6 +1,6 @@
 // ReSTIR PT's frame as a sequence of per-pixel stages over flat buffers, written once for any
 // execution policy (host_exec.h), as di_frame.h is for ReSTIR DI: the CUDA backend runs it with
-// cuda::CudaExec (restir_cuda.cu), its host twin with HostExec (frame_twins.cpp).
+// cuda::CudaExec (restir_pt_cuda.cu), its host twin with HostExec (frame_twins.cpp).
 // The stages are those of the CPU's restir_pt.cpp, in its order, with its random streams: primary
 // hits, initial paths, temporal reuse, the spatial rounds, shading; with pt.direct = restir-di,
 // di_frame.h's ReSTIR DI on the same policy adds the emission seen and the direct light. Each
@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "integrators/di_frame.h"
 #include "integrators/pt_path_kernel.h"
 #include "integrators/reuse_frame.h"
 
@@ -71,9 +70,12 @@ struct ShadeStage {
 template <class Exec>
 class PtFrameRenderer final : public Integrator {
  public:
-  explicit PtFrameRenderer(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options)) {
+  // make_direct: ReSTIR DI on the same policy (make_cuda_restir_di, make_host_twin_restir_di),
+  // called when pt.direct = restir-di.
+  PtFrameRenderer(const RenderContext& ctx, std::unique_ptr<Integrator> (*make_direct)(const RenderContext&))
+      : ctx_(ctx), settings_(path_settings(ctx.options)) {
     check_frame_supported(ctx, "restir-pt");
-    if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = std::make_unique<DiFrameRenderer<Exec>>(ctx);
+    if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_direct(ctx);
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {

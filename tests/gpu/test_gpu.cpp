@@ -192,9 +192,10 @@ TEST_CASE("an animated scene: after reset() at frame 3, frame 0 is drawn in fram
   CHECK(mismatch <= rays.size() / 10000);
 }
 
-// restir-di's last frame (render.frames of history), K seeds stacked, through `make`: the CPU's,
-// the CUDA backend's, or in a dry run the CUDA driver's host twin (di_frame.h on the CPU).
-Image di_stacked(const Scene& scene, Options o, int seeds, MakeIntegrator make) {
+// A ReSTIR integrator's last frame (render.frames of history), K seeds stacked, through `make`: the
+// CPU's, the CUDA backend's, or in a dry run the CUDA driver's host twin (di_frame.h, pt_frame.h
+// on the CPU).
+Image frames_stacked(const Scene& scene, Options o, int seeds, MakeIntegrator make) {
   Image sum(o.film.width, o.film.height);
   for (int k = 0; k < seeds; ++k) {
     o.render.seed = uint64_t(1000 + k);
@@ -204,6 +205,7 @@ Image di_stacked(const Scene& scene, Options o, int seeds, MakeIntegrator make) 
   return sum;
 }
 MakeIntegrator gpu_restir_di() { return g_dry_run ? &make_host_twin_restir_di : &make_cuda_restir_di; }
+MakeIntegrator gpu_restir_pt() { return g_dry_run ? &make_host_twin_restir_pt : &make_cuda_restir_pt; }
 
 // The two backends draw the same random numbers, so their images differ only where rounding
 // tips a resampling choice (e.g. FMA on the GPU). In many-lights, with 2400 small, bright emitters,
@@ -215,7 +217,7 @@ TEST_CASE("restir-di: CPU and CUDA renders agree (4 seeds stacked, 4 spp, 3 fram
     Scene scene = load_scene(path);
     const Options o = options_for(scene, {"integrator=restir-di", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3"});
     const bool blocks = path.find("many-lights") == std::string::npos;
-    check_agree(di_stacked(scene, o, 4, &make_cpu_restir_di), di_stacked(scene, o, 4, gpu_restir_di()), blocks);
+    check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_di), frames_stacked(scene, o, 4, gpu_restir_di()), blocks);
   }
 }
 
@@ -229,6 +231,26 @@ TEST_CASE("restir-di: render.backend = cuda through the renderer, textures and e
   const Image gpu_view = render(scene, o).last;
   o.render.backend = Backend::cpu;
   check_agree(render(scene, o).last, gpu_view);
+}
+
+// The issue's scenes and rule, each shift; the teapot scene at depth 5 with ReSTIR DI for the direct
+// light too (pt.direct = restir-di).
+TEST_CASE("restir-pt: CPU and CUDA renders agree, each shift (4 seeds stacked, 4 spp, 3 frames of reuse)") {
+  for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")})
+    for (const char* shift : {"pt.shift=hybrid", "pt.shift=reconnection", "pt.shift=random-replay"}) {
+      CAPTURE(path);
+      CAPTURE(shift);
+      Scene scene = load_scene(path);
+      const Options o =
+          options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3", shift});
+      check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_pt), frames_stacked(scene, o, 4, gpu_restir_pt()));
+    }
+  Scene scene = load_scene(own_scene("teapot.pbrt"));
+  Options o = options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                  "pt.direct=restir-di"});
+  const Image cpu = render(scene, o).last;
+  o.render.backend = gpu_backend();
+  check_agree(cpu, render(scene, o).last);
 }
 
 TEST_CASE("switching render.backend in a running FrameRenderer (the viewer's path)") {

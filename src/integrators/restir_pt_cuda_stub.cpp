@@ -1,4 +1,4 @@
-// make_cuda_restir_di / _pt in a build without the CUDA backend (RESTIR_CUDA=OFF).
+// make_cuda_restir_pt in a build without the CUDA backend (RESTIR_CUDA=OFF).
 #include <stdexcept>
 
 #include "backends/cuda/cuda_queries.h"
@@ -6,7 +6,6 @@
 
 namespace rl {
 
-std::unique_ptr<Integrator> make_cuda_restir_di(const RenderContext&) { throw std::runtime_error(cuda_unavailable_reason()); }
 std::unique_ptr<Integrator> make_cuda_restir_pt(const RenderContext&) { throw std::runtime_error(cuda_unavailable_reason()); }
 
 }  // namespace rl
