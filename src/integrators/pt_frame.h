@@ -82,17 +82,8 @@ class PtFrameRenderer final : public Integrator {
     world_.update(ctx_, frame);
     render_exec_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
     // pt.direct = restir-di: ReSTIR DI renders the emission seen and the direct light (same primary
-    // rays), the paths only the indirect part (length >= 3); its stages are recorded as "di.<stage>".
-    if (direct_ && ctx_.options.render.debug_view == DebugView::none) {
-      Image direct(out.width, out.height);
-      FrameInfo di_frame = frame;
-      StageTimes di_stages;
-      di_frame.stages = &di_stages;
-      direct_->render_frame(di_frame, direct);
-      if (frame.stages)
-        for (const auto& [name, ms] : di_stages.ms) frame.stages->add("di." + name, ms);
-      for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += direct.pixels[i];
-    }
+    // rays), the paths only the indirect part (length >= 3).
+    if (direct_ && ctx_.options.render.debug_view == DebugView::none) add_direct_light(*direct_, frame, out);
   }
 
  private:

@@ -44,6 +44,17 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
   return shift_path_in(path_world(ctx), AccelTracer{&ctx.accel}, ps, base, y1, out, jacobian);
 }
 
+void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out) {
+  Image di(out.width, out.height);
+  FrameInfo di_frame = frame;
+  StageTimes di_stages;
+  di_frame.stages = &di_stages;
+  direct.render_frame(di_frame, di);
+  if (frame.stages)
+    for (const auto& [name, ms] : di_stages.ms) frame.stages->add("di." + name, ms);
+  for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += di.pixels[i];
+}
+
 void print_reconnection_histogram(int frame, int chain, std::span<const PathReservoir> reservoirs) {
   std::vector<size_t> count;
   for (const PathReservoir& r : reservoirs) {

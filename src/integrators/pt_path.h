@@ -95,6 +95,10 @@ std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings&
 bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
                 PathSample& out, float& jacobian);
 
+// pt.direct = restir-di: renders this frame of `direct` (ReSTIR DI on the same primary rays) and
+// adds it to `out`; its stages are recorded in frame.stages as "di.<stage>".
+void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out);
+
 // The reconnection-depth debug view's histogram of one chain's final reservoirs (k = 0: no
 // reconnection), one line on stderr.
 void print_reconnection_histogram(int frame, int chain, std::span<const PathReservoir> reservoirs);
