@@ -7,7 +7,8 @@
 //     rays/s over the whole frame (issue 16: >= 1 billion on the Cornell box);
 //   - ReSTIR DI `restir-di` (defaults, --di-scene: many-lights) and ReSTIR PT `restir-pt` (defaults:
 //     hybrid, depth 5, 3 neighbours, temporal reuse; --pt-scene: the teapot), cpu vs cuda: ms per
-//     frame after the first and the ratio (issue 16 on the H200 at 1920x1080: DI <= 5 ms, PT <= 33 ms).
+//     frame after the first and the ratio (issue 16 on the H200 at 1920x1080: DI <= 5 ms, PT <= 33 ms);
+//     ReSTIR GI `restir-gi` (defaults, --gi-scene: the teapot) the same way.
 // Without a usable GPU it prints why and exits 77 (nothing measured). Default 1920x1080, 1 spp.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -74,6 +75,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> di_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"};
   app.add_option("--di-scene", di_scenes, "scenes to measure ReSTIR DI in");
   std::vector<std::string> pt_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
+  std::vector<std::string> gi_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
+  app.add_option("--gi-scene", gi_scenes, "scenes to measure ReSTIR GI in");
   app.add_option("--pt-scene", pt_scenes, "scenes to measure ReSTIR PT in");
   CLI11_PARSE(app, argc, argv);
   if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
@@ -118,7 +121,7 @@ int main(int argc, char** argv) {
     fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms; cpu/cuda {:.1f}x; cuda {:.2f} Grays/s (closest + shadow rays per ms)\n",
                cpu_pt, gpu_pt, cpu_pt / gpu_pt, total / gpu_pt * 1e-6);
   }
-  for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-pt", &pt_scenes}})
+  for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-gi", &gi_scenes}, std::pair{"restir-pt", &pt_scenes}})
     for (const std::string& path : *list) {
       Scene scene = load_scene(path);
       Options o;

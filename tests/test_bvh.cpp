@@ -232,7 +232,9 @@ TEST_SUITE("bvh") {
     o.integrator = "restir-pt";  // the ReSTIR drivers on CUDA need the device too
     o.path.max_depth = 5;        // (the scene asks for 65 bounces: more than ReSTIR PT and GI render)
     CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
-    o.integrator = "restir-gi";  // not on the CUDA backend yet: said so, not run on the CPU
-    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("only pt, restir-di and restir-pt run on the CUDA backend"), OptionError);
+    o.integrator = "restir-gi";
+    CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
+    o.integrator = "ssr";  // not on the CUDA backend yet: said so, not run on the CPU
+    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("ssr does not run on the CUDA backend yet"), OptionError);
   }
 }

@@ -40,11 +40,11 @@ Agreement agreement(const Image& a, const Image& b) {
 // Renders each case with the CPU's integrator and with the twin, 3 frames, and compares frame by
 // frame: at least min_same of the pixels equal (agreement()) and the means within 0.5%. Embree and
 // the BVH traversal round hit distances differently, so a tipped resampling choice or a path that
-// refracts differently makes a few pixels differ: measured 99.5-100% for ReSTIR DI and 98.7-99.9%
-// for ReSTIR PT (long specular chains diverge further: mirror-glass at depth 5 keeps only 80%
-// with no reuse at all, hence its depth 2 below). A driver that breaks a stream, a buffer swap or a
-// chain falls far below: planted, a missing swap after temporal reuse left 3-35% (DI), a path
-// stream without its chain 0.3-0.7% (PT).
+// bounces differently makes a few pixels differ: measured 99.5-100% for ReSTIR DI, 99.3-100% for
+// ReSTIR GI and 98.7-99.9% for ReSTIR PT. Long paths diverge further (no reuse at all, depth 5:
+// mirror-glass's specular chains keep 80% for PT, env-object 96-98% for GI), hence the short depths
+// below. A driver that breaks a stream, a buffer swap or a chain falls far below: planted, a
+// missing swap after temporal reuse left 3-35% (DI), a path stream without its chain 0.3-0.7% (PT).
 struct Case {
   const char* scene;
   std::vector<const char*> sets;
@@ -84,6 +84,15 @@ TEST_SUITE("frame_twins") {
             {"mirror-glass.pbrt", {"di.temporal_mis=pairwise"}},                     // delta BSDFs (di_specular)
             {"many-lights.pbrt", {"di.spatial_rounds=2", "render.debug_view=reuse-source"}},  // two rounds, a debug view
         });
+  }
+
+  TEST_CASE("the CUDA backend's ReSTIR GI driver, run on the host, renders what the CPU's restir-gi renders") {
+    check_twin("restir-gi", &make_cpu_restir_gi, &make_host_twin_restir_gi, 0.97, 48, 32,
+               {
+                   {"teapot.pbrt", {"render.spp=2", "path.max_depth=3"}},                  // two chains
+                   {"env-object.pbrt", {"gi.target=radiance", "gi.spatial_mis=generalized-balance", "path.max_depth=3"}},  // the other target, MIS
+                   {"mirror-glass.pbrt", {"path.max_depth=2"}},                             // delta BSDFs: plain path estimates
+               });
   }
 
   TEST_CASE("the CUDA backend's ReSTIR PT driver, run on the host, renders what the CPU's restir-pt renders") {

@@ -1,10 +1,11 @@
-// ReSTIR DI's and PT's frames (di_frame.h, pt_frame.h) on the host: the CUDA backend's drivers with
+// ReSTIR DI's, GI's and PT's frames (di_frame.h, gi_frame.h, pt_frame.h) on the host: the CUDA backend's drivers with
 // the host execution policy, for tests on machines without a GPU (restir_cuda.h).
 #include <stdexcept>
 #include <string>
 
 #include "backends/host_exec.h"
 #include "integrators/di_frame.h"
+#include "integrators/gi_frame.h"
 #include "integrators/pt_frame.h"
 #include "integrators/restir_cuda.h"
 
@@ -18,6 +19,7 @@ void check_frame_supported(const RenderContext& ctx, const char* integrator) {
 }
 
 std::unique_ptr<Integrator> make_host_twin_restir_di(const RenderContext& ctx) { return std::make_unique<DiFrameRenderer<HostExec>>(ctx); }
+std::unique_ptr<Integrator> make_host_twin_restir_gi(const RenderContext& ctx) { return std::make_unique<GiFrameRenderer<HostExec>>(ctx); }
 std::unique_ptr<Integrator> make_host_twin_restir_pt(const RenderContext& ctx) {
   return std::make_unique<PtFrameRenderer<HostExec>>(ctx, &make_host_twin_restir_di);
 }

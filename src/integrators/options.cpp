@@ -121,11 +121,10 @@ void validate_options(const Options& o) {
   // No candidate at all: every ReSTIR DI pixel would be black, silently.
   if (o.integrator == "restir-di" && o.di.light_candidates == 0 && o.di.bsdf_candidates == 0)
     throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");
-  // The CUDA backend runs pt, restir-di and restir-pt; the other integrators still trace ray by ray
-  // on the CPU, and running them "on cuda" would silently run them on the CPU.
-  if (o.render.backend == Backend::cuda && o.integrator != "pt" && o.integrator != "restir-di" && o.integrator != "restir-pt")
-    throw OptionError(fmt::format("render.backend = cuda: only pt, restir-di and restir-pt run on the CUDA backend so far, not {}",
-                                  o.integrator));
+  // The CUDA backend runs pt and the ReSTIR integrators; ssr still traces ray by ray on the CPU,
+  // and running it "on cuda" would silently run it on the CPU.
+  if (o.render.backend == Backend::cuda && o.integrator == "ssr")
+    throw OptionError("render.backend = cuda: ssr does not run on the CUDA backend yet (pt, restir-di, restir-gi and restir-pt do)");
 }
 
 }  // namespace rl

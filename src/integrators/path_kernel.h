@@ -155,4 +155,33 @@ RESTIR_HD inline bool path_bounce(const PathWorld& w, const PathOptions& opt, Pa
   return true;
 }
 
+// The path tracer's radiance along `ray` (pbrt-v4 PathIntegrator::Li): path_bounce until the path
+// ends, each bounce's closest hit and shadow ray through `tracer` (di_pixel.h's Tracer). `first`,
+// when not null, is the closest hit of `ray` the caller already has (*first invalid: it escaped).
+// rng advances as the path draws from it. The CPU's path_radiance and ReSTIR GI's samples on either
+// backend run this.
+template <class Tracer>
+RESTIR_HD Rgb path_radiance_in(const PathWorld& w, const Tracer& tracer, const PathOptions& opt, Ray ray, Pcg32& rng,
+                               bool skip_first_emission = false, const Hit* first = nullptr) {
+  PathState st;
+  st.ray = ray;
+  st.rng = rng;
+  for (bool known = first != nullptr;; known = false) {
+    Hit hit;
+    bool found;
+    if (known) {
+      found = first->valid();
+      if (found) hit = *first;
+    } else {
+      found = tracer.intersect(st.ray, hit);
+    }
+    PendingShadow shadow;
+    const bool alive = path_bounce(w, opt, st, found ? &hit : nullptr, shadow, skip_first_emission);
+    if (shadow.valid && !tracer.occluded(shadow.ray)) st.L += shadow.contribution;
+    if (!alive) break;
+  }
+  rng = st.rng;
+  return st.L;
+}
+
 }  // namespace rl

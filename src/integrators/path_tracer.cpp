@@ -25,50 +25,35 @@ bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st
 }
 
 namespace {
-// path_radiance's loop; `first` (when set) is the closest hit of `ray` already found by the
-// caller, *first_found whether there was one.
-Rgb trace_path(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
-               bool skip_first_emission, const Hit* first, bool first_found) {
-  PathState st;
-  st.ray = ray;
-  st.rng = rng;
-  for (bool known = first != nullptr;; known = false) {
-    Hit hit;
-    bool found;
-    if (known) {
-      found = first_found;
-      if (found) hit = *first;
-    } else {
-      if (stats) {
-        ++stats->rays;
-        if (stats->record_rays) stats->record_rays->push_back(st.ray);
-      }
-      found = ctx.accel.intersect(st.ray, hit);
+// path_radiance_in's Tracer on the CPU that also counts (and, for benchmarks, records) its rays.
+struct CountingTracer {
+  const Accel* accel;
+  PathStats* stats;
+  bool intersect(const Ray& r, Hit& hit) const {
+    if (stats) {
+      ++stats->rays;
+      if (stats->record_rays) stats->record_rays->push_back(r);
     }
-    PendingShadow shadow;
-    const bool alive = path_bounce(ctx, opt, st, found ? &hit : nullptr, shadow, skip_first_emission);
-    if (shadow.valid) {
-      if (stats) {
-        ++stats->shadow_rays;
-        if (stats->record_shadow_rays) stats->record_shadow_rays->push_back(shadow.ray);
-      }
-      if (!ctx.accel.occluded(shadow.ray)) st.L += shadow.contribution;
-    }
-    if (!alive) break;
+    return accel->intersect(r, hit);
   }
-  rng = st.rng;
-  return st.L;
-}
+  bool occluded(const Ray& r) const {
+    if (stats) {
+      ++stats->shadow_rays;
+      if (stats->record_shadow_rays) stats->record_shadow_rays->push_back(r);
+    }
+    return accel->occluded(r);
+  }
+};
 }  // namespace
 
 Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
                   bool skip_first_emission) {
-  return trace_path(ctx, opt, ray, rng, stats, skip_first_emission, nullptr, false);
+  return path_radiance_in(path_world(ctx), CountingTracer{&ctx.accel, stats}, opt, ray, rng, skip_first_emission);
 }
 
 Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng) {
-  const Hit none;
-  return trace_path(ctx, opt, ray, rng, nullptr, false, hit ? hit : &none, hit != nullptr);
+  const Hit none;  // invalid: the ray escaped
+  return path_radiance_in(path_world(ctx), CountingTracer{&ctx.accel, nullptr}, opt, ray, rng, false, hit ? hit : &none);
 }
 
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {

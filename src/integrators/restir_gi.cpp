@@ -14,24 +14,17 @@
 // reconnection Jacobian uses x_s's geometry in each frame (restir/shift.h). For the MIS weights,
 // this frame's samples are carried back and replayed in the previous frame's scene and BVH. Each
 // frame's target is then its own scene's, as GRIS requires; the Lambertian assumption above stays.
+#include "integrators/di_sampling.h"
+#include "integrators/gi_pixel.h"
 #include "integrators/path_tracer.h"
 #include "integrators/planted_bias.h"
+#include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
 #include "restir/shift.h"
 
 namespace rl {
 
 namespace {
-
-struct GiSample {
-  Vec3 position;      // x_s, or the direction when the ray escaped to the environment
-  Vec3 normal;        // geometric normal at x_s
-  bool infinite = false;
-  Rgb radiance{0};    // reflected L_o(x_s -> visible point), estimated by a path from x_s
-  uint32_t geom = kInvalidId, prim = kInvalidId;  // the surface of x_s (its animation moves it)
-  Pcg32 suffix;       // the random stream of the path that estimated `radiance` (replayed across frames)
-};
-using GiReservoir = restir::Reservoir<GiSample>;
 
 // The animation moving x_s's surface (-1: none).
 int animation_of(const Scene& scene, const GiSample& x) {
@@ -52,35 +45,8 @@ GiSample carried(const Scene& scene, const std::vector<Mat4>& motion, const GiSa
   return y;
 }
 
-// f_s(wo, wi) |cos| L_o at visible surface s for sample x (no visibility).
-Rgb gi_integrand(const GSurface& s, const GiSample& x) {
-  if (!s.valid) return Rgb(0);
-  Vec3 wi = x.position;
-  if (!x.infinite) {
-    const Vec3 d = x.position - s.p;
-    const float len = length(d);
-    if (!(len > 0)) return Rgb(0);
-    wi = d / len;
-  }
-  const Vec3 wo_l = s.frame.to_local(s.wo), wi_l = s.frame.to_local(wi);
-  const Rgb v = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z) * x.radiance;
-  return is_finite(v) ? max(v, Rgb(0)) : v;  // non-finite: reported by the render driver, never hidden
-}
-
 float gi_target(const RenderContext& ctx, GiTarget kind, const GSurface& s, const GiSample& x, bool visibility) {
-  const Rgb v = gi_integrand(s, x);
-  if (is_black(v)) return 0;
-  if (visibility) {
-    const float eps = ctx.accel.ray_epsilon();
-    const Ray r = x.infinite ? spawn_ray(s.p, s.ng, x.position, eps) : spawn_ray_to(s.p, s.ng, x.position, x.normal, eps);
-    if (ctx.accel.occluded(r)) return 0;
-  }
-  return luminance(kind == GiTarget::radiance ? x.radiance : v);
-}
-
-// Solid angle at `from` -> at `to` for the same sample point (1 for the environment).
-float gi_jacobian(const GiSample& x, Vec3 from, Vec3 to) {
-  return x.infinite ? 1.0f : restir::reconnection_jacobian(from, to, x.position, x.normal);
+  return gi_target_in(path_world(ctx), AccelTracer{&ctx.accel}, kind, s, x, visibility);
 }
 
 // x with its radiance re-estimated in scene c as seen from s: x's path stream replayed from x_s
@@ -104,32 +70,28 @@ struct GiMotion {
 };
 
 struct GiBridge {
+  GiViewBridge<AccelTracer> view;    // this frame's scene: everything but an animated history
   const RenderContext* ctx;
-  GiTarget kind;
-  const GSurface* const* surfaces;
   const GiMotion* motion = nullptr;  // temporal pass of an animated scene
   bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     if (i == 1 && motion) {
-      x = replayed(*ctx, *motion->path, *surfaces[0], carried(ctx->scene, motion->forward, y));
+      x = replayed(*ctx, *motion->path, *view.surfaces[0], carried(ctx->scene, motion->forward, y));
       jacobian = x.infinite ? 1.0f
-                            : restir::moved_reconnection_jacobian(surfaces[1]->p, y.position, y.normal, surfaces[0]->p,
+                            : restir::moved_reconnection_jacobian(view.surfaces[1]->p, y.position, y.normal, view.surfaces[0]->p,
                                                                   x.position, x.normal);
       return jacobian > 0;
     }
-    x = y;
-    jacobian = gi_jacobian(y, surfaces[i]->p, surfaces[0]->p);
-    return jacobian > 0;
+    return view.shift_to_canonical(i, y, x, jacobian);
   }
   float target_from(int i, const GiSample& x) const {
     if (i == 1 && motion) {
-      const GiSample back = replayed(*motion->previous, *motion->path, *surfaces[1], carried(ctx->scene, motion->back, x));
-      const float t = gi_target(*motion->previous, kind, *surfaces[1], back, false);  // visibility: in replayed
+      const GiSample back = replayed(*motion->previous, *motion->path, *view.surfaces[1], carried(ctx->scene, motion->back, x));
+      const float t = gi_target(*motion->previous, view.kind, *view.surfaces[1], back, false);  // visibility: in replayed
       return x.infinite ? t
-                        : t * restir::moved_reconnection_jacobian(surfaces[0]->p, x.position, x.normal, surfaces[1]->p,
+                        : t * restir::moved_reconnection_jacobian(view.surfaces[0]->p, x.position, x.normal, view.surfaces[1]->p,
                                                                   back.position, back.normal);
     }
-    const float t = gi_target(*ctx, kind, *surfaces[i], x, true);
-    return i == 0 ? t : t * gi_jacobian(x, surfaces[0]->p, surfaces[i]->p);
+    return view.target_from(i, x);
   }
 };
 
@@ -155,61 +117,6 @@ class RestirGi final : public Integrator {
     std::vector<Rgb> specular;  // not resampled: direct light by NEE, or a plain path through a delta BSDF
   };
 
-  // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of max_depth - 1 bounces).
-  GiReservoir initial(const GSurface& s, Pcg32& rng, Rgb& specular) const {
-    GiReservoir r;
-    r.confidence = 1;
-    if (!s.valid) return r;
-    BsdfSample bs;
-    const float u_lobe = rng.next_float();
-    const Vec2 u = rng.next_2d();
-    if (!bsdf_sample(s.bsdf, s.frame.to_local(s.wo), u_lobe, u, bs) || !(bs.pdf > 0) || is_black(bs.f)) return r;
-    const Vec3 wi = s.frame.to_world(bs.wi);
-    const Ray ray = spawn_ray(s.p, s.ng, wi, ctx_.accel.ray_epsilon());
-    if (bs.is_delta) {  // no NEE and no reconnection through a delta lobe: a plain path estimate
-      specular = bs.f * std::fabs(bs.wi.z) / bs.pdf * path_radiance(ctx_, path_, ray, rng);
-      return r;
-    }
-    GiSample x;
-    x.suffix = rng;  // the stream path_radiance draws from, for replays in other frames
-    x.radiance = path_radiance(ctx_, path_, ray, rng, nullptr, /*skip_first_emission=*/true);
-    Hit hit;
-    float pdf = bs.pdf;
-    if (ctx_.accel.intersect(ray, hit)) {
-      const SurfaceInteraction si = ctx_.accel.interaction(ray, hit);
-      x.position = si.p;
-      x.normal = si.ng;
-      x.geom = si.geom;
-      x.prim = si.prim;
-      // The sample is valued along the direction from the visible point to x_s (as every shift
-      // sees it), so its density is taken there too: the traced ray left from an offset origin, and
-      // near contact (x_s within a few epsilons) the two directions differ enough to bias f/p.
-      const Vec3 wi_pos = normalize(si.p - s.p);
-      pdf = bsdf_pdf(s.bsdf, s.frame.to_local(s.wo), s.frame.to_local(wi_pos));
-    } else {
-      x.infinite = true;
-      x.position = wi;
-    }
-    const float t = gi_target(ctx_, ctx_.options.gi.target, s, x, false);  // visible: it was traced
-    if (pdf > 0) restir::stream(r, x, t, t / pdf, rng.next_float());
-    restir::finalize(r);
-    return r;
-  }
-
-  // Direct light at a non-delta visible point: one light sample (no MIS: the GI samples exclude
-  // emission, so light sampling is the only strategy for it).
-  Rgb direct(const GSurface& s, Pcg32& rng) const {
-    if (!s.valid || bsdf_is_delta(s.bsdf)) return Rgb(0);
-    LightSample ls;
-    const float u_select = rng.next_float();
-    const Vec2 u = rng.next_2d();
-    if (!ctx_.lights.sample(s.p, u_select, u, ls) || !(ls.pdf > 0)) return Rgb(0);
-    const Vec3 wi_l = s.frame.to_local(ls.wi);
-    const Rgb f = bsdf_eval(s.bsdf, s.frame.to_local(s.wo), wi_l) * std::fabs(wi_l.z);
-    if (is_black(f)) return Rgb(0);
-    return ctx_.accel.occluded(shadow_ray_to_light(s.p, s.ng, ls, ctx_.accel.ray_epsilon())) ? Rgb(0) : f * ls.radiance / ls.pdf;
-  }
-
   void render_chain(const FrameInfo& frame, int s, Chain& c, std::vector<Rgb>& sum) {
     const Options& o = ctx_.options;
     const ReuseOptions& rp = o.gi.reuse;
@@ -225,9 +132,11 @@ class RestirGi final : public Integrator {
       Mat4 inv;
       motion.forward.push_back(b.inverse(inv) ? inv : Mat4{});
     }
+    const PathWorld world = path_world(ctx_);
+    const AccelTracer tracer{&ctx_.accel};
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       const bool planted = ctx_.planted && ctx_.planted->gi_history_cached;
-      return GiBridge{&ctx_, o.gi.target, surfaces, temporal && previous && !planted ? &motion : nullptr};
+      return GiBridge{{&world, &tracer, o.gi.target, surfaces}, &ctx_, temporal && previous && !planted ? &motion : nullptr};
     };
 
     {
@@ -235,8 +144,8 @@ class RestirGi final : public Integrator {
       parallel_for_pixels(w, h, [&](int x, int y) {
         const uint32_t p = uint32_t(y * w + x);
         Pcg32 rng = make_rng(p, f, RngPass::path, seed, chain);
-        c.reservoirs[p] = initial(g.at(x, y), rng, c.specular[p]);
-        c.specular[p] += direct(g.at(x, y), rng);
+        c.reservoirs[p] = gi_initial_in(world, tracer, path_, o.gi.target, g.at(x, y), rng, c.specular[p]);
+        c.specular[p] += gi_direct_in(world, tracer, g.at(x, y), rng);
       }, frame.progress);
     }
 
@@ -251,11 +160,7 @@ class RestirGi final : public Integrator {
         sum[p] += dbg;
         return;
       }
-      Rgb L = sf.valid ? sf.emitted + c.specular[p] : sf.background;
-      const GiReservoir& r = c.reservoirs[p];
-      if (sf.valid && r.has_sample()) L += gi_integrand(sf, r.sample) * r.ucw;  // visible: the target included it
-      mark_non_finite(r, L);
-      sum[p] += L;
+      sum[p] += gi_shade(sf, c.reservoirs[p], c.specular[p]);
     });
 
     c.end_frame();
@@ -271,6 +176,13 @@ class RestirGi final : public Integrator {
 std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx) {
   if (ctx.options.render.debug_view == DebugView::reconnection_depth)
     throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt");
+  if (ctx.options.render.backend == Backend::cuda) {
+    try {
+      return make_cuda_restir_gi(ctx);
+    } catch (const std::runtime_error& e) {
+      throw OptionError(std::string("render.backend = cuda: ") + e.what());
+    }
+  }
   return std::make_unique<RestirGi>(ctx);
 }
 

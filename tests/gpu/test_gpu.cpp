@@ -205,6 +205,7 @@ Image frames_stacked(const Scene& scene, Options o, int seeds, MakeIntegrator ma
   return sum;
 }
 MakeIntegrator gpu_restir_di() { return g_dry_run ? &make_host_twin_restir_di : &make_cuda_restir_di; }
+MakeIntegrator gpu_restir_gi() { return g_dry_run ? &make_host_twin_restir_gi : &make_cuda_restir_gi; }
 MakeIntegrator gpu_restir_pt() { return g_dry_run ? &make_host_twin_restir_pt : &make_cuda_restir_pt; }
 
 // The two backends draw the same random numbers, so their images differ only where rounding
@@ -231,6 +232,16 @@ TEST_CASE("restir-di: render.backend = cuda through the renderer, textures and e
   const Image gpu_view = render(scene, o).last;
   o.render.backend = Backend::cpu;
   check_agree(render(scene, o).last, gpu_view);
+}
+
+TEST_CASE("restir-gi: CPU and CUDA renders agree (4 seeds stacked, 4 spp, 3 frames of reuse)") {
+  for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")}) {
+    CAPTURE(path);
+    Scene scene = load_scene(path);
+    const Options o = options_for(scene, {"integrator=restir-gi", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                          "path.max_depth=5"});
+    check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_gi), frames_stacked(scene, o, 4, gpu_restir_gi()));
+  }
 }
 
 // The issue's scenes and rule, each shift; the teapot scene at depth 5 with ReSTIR DI for the direct
