@@ -39,7 +39,8 @@ run_checks() {
     echo "== bench_gpu (1920x1080, 1 spp)" | tee -a "$results"
     "${runner[@]}" "$bin/bench_gpu" --scene "$SCENES_SHARED/scenes/cornell-box/scene-v4.pbrt" \
       --scene "$SCENES_SHARED/scenes/veach-mis/scene-v4.pbrt" --scene "$SCENES_OWN/scenes/teapot.pbrt" \
-      --di-scene "$SCENES_OWN/scenes/many-lights.pbrt" --pt-scene "$SCENES_OWN/scenes/teapot.pbrt" 2>&1 |
+      --di-scene "$SCENES_OWN/scenes/many-lights.pbrt" --gi-scene "$SCENES_OWN/scenes/teapot.pbrt" \
+      --pt-scene "$SCENES_OWN/scenes/teapot.pbrt" 2>&1 |
       grep -v 'Film "filename" ignored' | tee -a "$results" || true
   fi
   # "No usable GPU" on a machine whose driver lists one is a failure (a driver or library
