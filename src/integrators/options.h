@@ -217,7 +217,7 @@ void visit_options(O& o, V& v) {
   v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
   v("render.backend", o.render.backend,
     "where the frame is computed: cpu (Embree, all cores) or cuda (an NVIDIA GPU: the scene, its BVH and every "
-    "wavefront stage on the device; builds with -DRESTIR_CUDA=ON; pt only so far)");
+    "wavefront stage on the device; builds with -DRESTIR_CUDA=ON; pt and ReSTIR DI, GI, PT in static scenes; not ssr)");
   v("render.sample_pattern", o.render.sample_pattern,
     "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "
     "stratified (4x4 strata cycled over frames at 1-8 spp), halton, msaa (Direct3D 8x positions cycled over frames; 16x "
