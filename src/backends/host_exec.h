@@ -9,7 +9,9 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <memory>
+#include <type_traits>
 #include <utility>
 
 #include "backends/view_upload.h"
@@ -27,6 +29,10 @@ struct HostExec {
     void reserve(size_t n) {
       if (n <= capacity) return;
       mem_ = std::make_unique<T[]>(n);
+      // Garbage, as cudaMalloc's memory is: all bits set (NaN in every float), so that a stage
+      // reading what no stage wrote shows in the host twin's image instead of reading zeros.
+      static_assert(std::is_trivially_copyable_v<T>);
+      std::memset(static_cast<void*>(mem_.get()), 0xff, n * sizeof(T));
       data = mem_.get();
       capacity = n;
     }

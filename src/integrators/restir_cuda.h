@@ -1,6 +1,7 @@
 // ReSTIR DI, GI and PT on the CUDA backend (render.backend = cuda): di_frame.h's, gi_frame.h's and
 // pt_frame.h's stages run as one kernel per stage over device buffers, the scene, its lights and
-// its BVH copied to the GPU once. A plain host header: no CUDA type crosses it.
+// its BVH copied to the GPU once (twice with pt.direct = restir-di: the DI driver keeps its own copy).
+// A plain host header: no CUDA type crosses it.
 #pragma once
 #include <memory>
 
