@@ -9,6 +9,7 @@
 
 #include "core/parallel.h"
 #include "core/sampling.h"
+#include "integrators/cuda_maker.h"
 #include "integrators/direction_sampling.h"
 #include "integrators/pixel_sampler.h"
 #include "integrators/pt_cuda.h"
@@ -172,13 +173,7 @@ class PathTracer final : public Integrator {
 std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) {
   if (ctx.options.render.debug_view != DebugView::none)
     throw OptionError("render.debug_view: the path tracer has no debug views (they belong to the ReSTIR integrators)");
-  if (ctx.options.render.backend == Backend::cuda) {
-    try {
-      return make_cuda_path_tracer(ctx);
-    } catch (const std::runtime_error& e) {
-      throw OptionError(std::string("render.backend = cuda: ") + e.what());
-    }
-  }
+  if (ctx.options.render.backend == Backend::cuda) return make_on_cuda(&make_cuda_path_tracer, ctx);
   return std::make_unique<PathTracer>(ctx);
 }
 

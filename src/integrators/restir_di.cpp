@@ -5,6 +5,7 @@
 // the pixel bookkeeping of reuse in reuse_passes.h.
 #include <optional>
 
+#include "integrators/cuda_maker.h"
 #include "integrators/di_sampling.h"
 #include "integrators/path_tracer.h"
 #include "integrators/restir_cuda.h"
@@ -141,13 +142,7 @@ class RestirDi final : public Integrator {
 std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx) {
   if (ctx.options.render.debug_view == DebugView::reconnection_depth)
     throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt (DI samples have no path)");
-  if (ctx.options.render.backend == Backend::cuda) {
-    try {
-      return make_cuda_restir_di(ctx);
-    } catch (const std::runtime_error& e) {
-      throw OptionError(std::string("render.backend = cuda: ") + e.what());
-    }
-  }
+  if (ctx.options.render.backend == Backend::cuda) return make_on_cuda(&make_cuda_restir_di, ctx);
   return std::make_unique<RestirDi>(ctx);
 }
 

@@ -14,6 +14,7 @@
 // reconnection Jacobian uses x_s's geometry in each frame (restir/shift.h). For the MIS weights,
 // this frame's samples are carried back and replayed in the previous frame's scene and BVH. Each
 // frame's target is then its own scene's, as GRIS requires; the Lambertian assumption above stays.
+#include "integrators/cuda_maker.h"
 #include "integrators/di_sampling.h"
 #include "integrators/gi_pixel.h"
 #include "integrators/path_tracer.h"
@@ -176,13 +177,7 @@ class RestirGi final : public Integrator {
 std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx) {
   if (ctx.options.render.debug_view == DebugView::reconnection_depth)
     throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt");
-  if (ctx.options.render.backend == Backend::cuda) {
-    try {
-      return make_cuda_restir_gi(ctx);
-    } catch (const std::runtime_error& e) {
-      throw OptionError(std::string("render.backend = cuda: ") + e.what());
-    }
-  }
+  if (ctx.options.render.backend == Backend::cuda) return make_on_cuda(&make_cuda_restir_gi, ctx);
   return std::make_unique<RestirGi>(ctx);
 }
 

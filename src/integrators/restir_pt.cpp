@@ -5,6 +5,7 @@
 // options (emission seen directly at the primary hit is added as is).
 #include <optional>
 
+#include "integrators/cuda_maker.h"
 #include "integrators/pt_path.h"
 #include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
@@ -144,13 +145,7 @@ std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
     throw OptionError("restir-pt: unbiased temporal reuse in an animated scene needs pt.shift=random-replay (a reconnected "
                       "path keeps the previous frame's vertices and cached radiance); set pt.shift=random-replay, or "
                       "pt.history_scene=current (biased), or pt.temporal=false");
-  if (o.render.backend == Backend::cuda) {
-    try {
-      return make_cuda_restir_pt(ctx);
-    } catch (const std::runtime_error& e) {
-      throw OptionError(std::string("render.backend = cuda: ") + e.what());
-    }
-  }
+  if (o.render.backend == Backend::cuda) return make_on_cuda(&make_cuda_restir_pt, ctx);
   return std::make_unique<RestirPt>(ctx);
 }
 
