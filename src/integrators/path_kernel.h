@@ -85,10 +85,11 @@ RESTIR_HD inline bool path_bounce(const PathWorld& w, const PathOptions& opt, Pa
   shadow.valid = false;
   if (!hit) {
     if (depth == 0 && skip_first_emission) return false;
-    const Rgb Le = lights.environment_radiance(st.ray.d);
+    const LightsView::EnvironmentValue env = lights.environment_value(st.ray.d);  // one texel lookup
+    const Rgb Le = env.radiance;
     if (!is_black(Le)) {
       float mw = 1;
-      if (depth > 0 && !st.specular && nee) mw = path_mis_weight(opt.mis, st.prev_pdf, lights.environment_pdf(st.ray.d));
+      if (depth > 0 && !st.specular && nee) mw = path_mis_weight(opt.mis, st.prev_pdf, env.pdf);
       st.L += st.beta * Le * mw;
     }
     return false;

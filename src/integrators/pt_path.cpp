@@ -27,7 +27,12 @@ PathSettings path_settings(const Options& o) {
 
 PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
                                      int candidates) {
-  return initial_path_reservoir_in(path_world(ctx), AccelTracer{&ctx.accel}, ps, s, seed, candidates);
+  return initial_path_reservoir(path_world(ctx), ctx.accel, ps, s, seed, candidates);
+}
+
+PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
+                                     uint64_t seed, int candidates) {
+  return initial_path_reservoir_in(world, AccelTracer{&accel}, ps, s, seed, candidates);
 }
 
 std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed) {
@@ -41,7 +46,12 @@ std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings&
 
 bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1, PathSample& out,
                 float& jacobian) {
-  return shift_path_in(path_world(ctx), AccelTracer{&ctx.accel}, ps, base, y1, out, jacobian);
+  return shift_path(path_world(ctx), ctx.accel, ps, base, y1, out, jacobian);
+}
+
+bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
+                const GSurface& y1, PathSample& out, float& jacobian) {
+  return shift_path_in(world, AccelTracer{&accel}, ps, base, y1, out, jacobian);
 }
 
 void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out) {

@@ -71,15 +71,31 @@ struct Terminal {
   Ray shadow;
 };
 
+// `sampled`: the emitter point was just drawn by sample_point, which gave its density (pdf) and,
+// for the environment, its radiance: they are used instead of looking them up again (the same
+// values bit for bit). The environment's texel lookups were a fifth of a ReSTIR PT frame.
+struct SampledEmitter {
+  float pdf = 0;
+  Rgb env_radiance{0};
+};
+
 RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettings& ps, const Vertex& v, uint32_t emitter,
-                                        Vec3 pos, Vec3 normal) {
+                                        Vec3 pos, Vec3 normal, const SampledEmitter* sampled = nullptr) {
   Terminal t;
   const float eps = world.ray_epsilon;
   float to_measure = 1;
+  bool have_pdf = sampled != nullptr;
   switch (world.lights.kind(emitter)) {
     case LightKind::environment:
       t.wi = pos;
-      t.emission = world.lights.environment_radiance(t.wi);
+      if (sampled) {
+        t.emission = sampled->env_radiance;
+      } else {
+        const LightsView::EnvironmentValue env = world.lights.environment_value(t.wi);
+        t.emission = env.radiance;
+        t.light_pdf = env.pdf;
+        have_pdf = true;
+      }
       t.geometry = 1;
       t.shadow = spawn_ray(v.p, v.ng, t.wi, eps);
       break;
@@ -108,7 +124,8 @@ RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettin
   }
   const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(t.wi);
   t.fcos = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
-  t.light_pdf = world.lights.point_pdf(emitter, pos);
+  if (sampled) t.light_pdf = sampled->pdf;
+  else if (!have_pdf) t.light_pdf = world.lights.point_pdf(emitter, pos);
   t.measure = to_measure;
   t.bsdf_pdf = direction_pdf(v.bsdf, ps.bsdf_sampling, wo_l, wi_l) * to_measure;
   return t;
@@ -274,9 +291,11 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     // Next-event estimation: path x_1..x_d + light point.
     if (ps.nee && !v.delta) {
       EmitterPoint ep;
-      if (world.lights.sample_point(u.nee_select, u.nee_point, ep)) {
+      SampledEmitter sampled;
+      if (world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) {
         const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
-        Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal);
+        sampled.pdf = ep.pdf;
+        Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
         if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
           const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
           offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry,
@@ -293,14 +312,14 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     if (!st.hit) {
       if (world.lights.has_environment()) {
         const uint32_t e = world.lights.environment_emitter();
+        const LightsView::EnvironmentValue env = world.lights.environment_value(st.dir);
         Terminal t;
         t.wi = st.dir;
-        t.light_pdf = world.lights.point_pdf(e, st.dir);
+        t.light_pdf = env.pdf;
         t.measure = 1;
         t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
         const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.fcos, world.lights.environment_radiance(st.dir),
-                          pdf * st.pdf, mis, &t});
+        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.fcos, env.radiance, pdf * st.pdf, mis, &t});
       }
       break;
     }
@@ -424,10 +443,12 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     };
     if (base.nee) {
       EmitterPoint ep;
-      if (v.delta || !ps.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep)) return false;
+      SampledEmitter sampled;
+      if (v.delta || !ps.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
       const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
       if (emitter_reconnectable(is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
-      const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal);
+      sampled.pdf = ep.pdf;
+      const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
       if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
       f = beta * t.fcos * t.emission * t.geometry;
       p = pdf * t.light_pdf;
@@ -440,8 +461,9 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
       Rgb le;
       if (!st.hit) {
         if (!world.lights.has_environment()) return false;
-        le = world.lights.environment_radiance(st.dir);
-        light_pdf = world.lights.point_pdf(world.lights.environment_emitter(), st.dir);
+        const LightsView::EnvironmentValue env = world.lights.environment_value(st.dir);
+        le = env.radiance;
+        light_pdf = env.pdf;
         measure = 1;
       } else {
         const uint32_t e = emitter_of(world, st.si);

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "integrators/cuda_maker.h"
+#include "integrators/path_tracer.h"
 #include "integrators/pt_path.h"
 #include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
@@ -28,14 +29,19 @@ namespace {
 // over the supports (GRIS §5), which is what unbiasedness needs.
 struct PtBridge {
   const RenderContext* ctx;
+  const PathWorld* world;           // ctx's views (path_world), built once per frame
   const PathSettings* ps;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
   const RenderContext* history = nullptr;  // domain 1's scene when it is another frame's; else null
+  const PathWorld* history_world = nullptr;  // history's views
   mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
-  const RenderContext& scene_of(int i) const { return i == 1 && history ? *history : *ctx; }
+  bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
+    if (i == 1 && history) return shift_path(*history_world, history->accel, *ps, x, to, y, jacobian);
+    return shift_path(*world, ctx->accel, *ps, x, to, y, jacobian);
+  }
   bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
-    const bool ok = shift_path(*ctx, *ps, y, *surfaces[0], x, jacobian);
+    const bool ok = shift_in(0, y, *surfaces[0], x, jacobian);
     if (ctx->planted) jacobian *= ctx->planted->jacobian_scale;
     return ok;
   }
@@ -43,7 +49,7 @@ struct PtBridge {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
     float jacobian;
-    if (!shift_path(scene_of(i), *ps, x, *surfaces[i], y, jacobian)) return 0;
+    if (!shift_in(i, x, *surfaces[i], y, jacobian)) return 0;
     float t = luminance(y.contribution) * jacobian;
     if (ctx->planted) t *= ctx->planted->jacobian_scale * (i == shifting ? ctx->planted->own_target_scale : 1.0f);
     return t;
@@ -85,8 +91,11 @@ class RestirPt final : public Integrator {
     const GBuffer& g = c.gbuffer;
     // The previous frame's scene for the history (animated scenes, pt.history_scene = previous).
     const std::optional<RenderContext> history = previous_context(ctx_, frame);
+    const PathWorld world = path_world(ctx_);
+    const std::optional<PathWorld> history_world = history ? std::optional<PathWorld>(path_world(*history)) : std::nullopt;
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
-      return PtBridge{&ctx_, &settings_, surfaces, temporal && history ? &*history : nullptr};
+      const bool past = temporal && history;
+      return PtBridge{&ctx_, &world, &settings_, surfaces, past ? &*history : nullptr, past ? &*history_world : nullptr};
     };
 
     // 1. Initial paths.
@@ -95,7 +104,7 @@ class RestirPt final : public Integrator {
       parallel_for_pixels(w, h, [&](int x, int y) {
         const uint32_t p = uint32_t(y * w + x);
         const uint64_t path_seed = hash_combine(hash_combine(hash_combine(seed, p), f), chain);
-        c.reservoirs[p] = initial_path_reservoir(ctx_, settings_, g.at(x, y), path_seed, o.pt.candidates);
+        c.reservoirs[p] = initial_path_reservoir(world, ctx_.accel, settings_, g.at(x, y), path_seed, o.pt.candidates);
       }, frame.progress);
     }
 

@@ -211,10 +211,20 @@ struct LightsView {
   RESTIR_HD uint32_t select_emitter(float u, float* pmf) const;
   RESTIR_HD bool sample_emitter(uint32_t e, Vec3 p, Vec2 u, LightSample& out) const;
   RESTIR_HD float pdf(uint32_t emitter, Vec3 p, Vec3 light_p, Vec3 light_n) const;
-  RESTIR_HD bool sample_point(float u_select, Vec2 u, EmitterPoint& out) const;
+  // env_radiance (optional) receives the environment's radiance along a sampled direction (from
+  // the texel lookup that gave its density; untouched for other emitters).
+  RESTIR_HD bool sample_point(float u_select, Vec2 u, EmitterPoint& out, Rgb* env_radiance = nullptr) const;
   RESTIR_HD float point_pdf(uint32_t emitter, Vec3 position) const;
   RESTIR_HD float environment_pdf(Vec3 dir) const;
   RESTIR_HD Rgb environment_radiance(Vec3 dir) const;
+  // The environment along a world direction from one texel lookup (environment_radiance and
+  // point_pdf(environment_emitter(), dir) each look it up): radiance, and density with the
+  // selection pmf, equal to point_pdf's bit for bit. Zero without an environment.
+  struct EnvironmentValue {
+    Rgb radiance{0};
+    float pdf = 0;
+  };
+  RESTIR_HD EnvironmentValue environment_value(Vec3 dir) const;
   RESTIR_HD Rgb emitted(uint32_t emitter, Vec3 n, Vec3 w) const;
   // The geometric normal of emitter e at a point `position` on it, the normal its sampling and a
   // ray hitting it report: a triangle's e.n, a sphere's outward (or, flipped, inward) radial unit

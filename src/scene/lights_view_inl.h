@@ -38,7 +38,7 @@ RESTIR_HD inline Vec3 LightsView::normal_at(uint32_t emitter, Vec3 position) con
   }
 }
 
-RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPoint& out) const {
+RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPoint& out, Rgb* env_radiance) const {
   out = {};
   if (selection.size == 0) return false;
   float pmf = 0;
@@ -71,6 +71,7 @@ RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPo
       if (!sample_environment(u, ls)) return false;
       out.position = ls.wi;
       out.pdf = pmf * ls.pdf;
+      if (env_radiance) *env_radiance = ls.radiance;
       break;
     }
   }
@@ -293,6 +294,12 @@ RESTIR_HD inline LightsView::EnvLookup LightsView::environment_lookup(Vec3 dir) 
 RESTIR_HD inline Rgb LightsView::environment_radiance(Vec3 dir) const { return environment_lookup(dir).radiance; }
 
 RESTIR_HD inline float LightsView::environment_pdf_unselected(Vec3 dir) const { return environment_lookup(dir).pdf; }
+
+RESTIR_HD inline LightsView::EnvironmentValue LightsView::environment_value(Vec3 dir) const {
+  if (env_emitter == kNoEmitter) return {};
+  const EnvLookup look = environment_lookup(dir);
+  return {look.radiance, selection.pmf(env_emitter) * look.pdf};  // point_pdf's product
+}
 
 RESTIR_HD inline float LightsView::environment_pdf(Vec3 dir) const {
   if (env_emitter == kNoEmitter) return 0;
