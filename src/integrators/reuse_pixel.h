@@ -114,9 +114,24 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   inputs[0] = &reservoirs[p];
   int n = 1;
   const float rotation = rng.next_float();
+  int nxs[kMaxReuseNeighbors], nys[kMaxReuseNeighbors];
   for (int j = 0; j < k; ++j) {
     const Vec2 off = restir::spatial_offset(j, k, rp.spatial_radius, rotation);
-    const int nx = x + int(lroundf(off.x)), ny = y + int(lroundf(off.y));
+    nxs[j] = x + int(lroundf(off.x)), nys[j] = y + int(lroundf(off.y));
+#ifndef __CUDA_ARCH__
+    // The neighbours' G-buffer entries and reservoirs are up to spatial_radius rows away: cache
+    // misses that were half of this function's time (ReSTIR PT). Fetching all of them before the
+    // first is read overlaps the misses.
+    if (nxs[j] >= 0 && nys[j] >= 0 && nxs[j] < w && nys[j] < h) {
+      const char* gs = reinterpret_cast<const char*>(&g.at(nxs[j], nys[j]));
+      const char* rs = reinterpret_cast<const char*>(&reservoirs[size_t(nys[j] * w + nxs[j])]);
+      for (size_t b = 0; b < sizeof(GSurface); b += 64) __builtin_prefetch(gs + b);
+      for (size_t b = 0; b < sizeof(Res); b += 64) __builtin_prefetch(rs + b);
+    }
+#endif
+  }
+  for (int j = 0; j < k; ++j) {
+    const int nx = nxs[j], ny = nys[j];
     ++dbg.tried[p];
     const bool inside = !(nx == x && ny == y) && nx >= 0 && ny >= 0 && nx < w && ny < h;
     if (!inside || !g.at(nx, ny).valid ||
