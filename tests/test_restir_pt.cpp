@@ -126,6 +126,12 @@ TEST_SUITE("restir_pt") {
     CHECK(hybrid[2] > 0);                                   // rough first bounces reconnect at once
     CHECK(hybrid[0] + hybrid[3] + hybrid[4] > 0);           // glossy / glass teapots defer or replay
     CHECK(hybrid[1] == 0);
+    // With ReSTIR DI for the direct light (paths of 3+ vertices) the view is the paths' own too: it
+    // renders (ReSTIR DI refuses the view on its own) and still shows the hybrid's reconnections.
+    set_option(o, "pt.direct", "restir-di");
+    auto with_di = depths("hybrid");
+    CHECK(with_di[2] + with_di[3] > 0);
+    CHECK(with_di[1] == 0);
   }
 }
 

@@ -60,7 +60,11 @@ struct PtBridge {
 class RestirPt final : public Integrator {
  public:
   explicit RestirPt(const RenderContext& ctx) : ctx_(ctx), settings_(path_settings(ctx.options)) {
-    if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_restir_di(ctx);
+    // ReSTIR DI adds the direct light only to a shaded image (render_frame): under a debug view it
+    // is not made, so that a view of the paths' own (reconnection-depth) does not reach ReSTIR DI,
+    // which refuses it.
+    if (ctx.options.pt.direct == DirectLighting::restir_di && ctx.options.render.debug_view == DebugView::none)
+      direct_ = make_restir_di(ctx);
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
   }
 
