@@ -41,8 +41,9 @@ namespace {
 
 // render.backend's batched ray queries for the integrators that run on the CPU and trace through
 // RenderContext::queries. Null: the CPU backend (the Embree Accel answers), and the CUDA backend,
-// whose integrators (pt) hold their own device copy of the scene; for it, a CUDA backend missing
-// from the build or the machine is an option error here, before anything is built.
+// whose integrators (pt, restir-di, restir-gi, restir-pt) hold their own device copy of the scene;
+// for it, a CUDA backend missing from the build or the machine is an option error here, before
+// anything is built.
 std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene&) {
   if (backend == Backend::cuda)
     if (const std::string why = cuda_unavailable_reason(); !why.empty()) throw OptionError("render.backend = cuda: " + why);
