@@ -300,35 +300,6 @@ TEST_SUITE("study") {
     fs::remove_all(d);
   }
 
-  TEST_CASE("aggregation: mean and standard error over seeds, one series per value") {
-    std::vector<Row> rows;
-    auto add = [&](const std::string& scene, const std::string& x, double y) {
-      Row r;
-      r.scene = scene;
-      r.options = {{"di.spatial_neighbors", x}};
-      r.metrics["relmse"] = y;
-      rows.push_back(r);
-    };
-    add("a", "2", 1.0);
-    add("a", "2", 3.0);
-    add("a", "10", 5.0);
-    add("b", "2", 7.0);
-    PlotSpec p;
-    p.x = "di.spatial_neighbors";
-    p.y = "relmse";
-    p.series = "scene";
-    bool numeric = false;
-    auto s = aggregate(p, rows, &numeric);
-    CHECK(numeric);
-    REQUIRE(s.size() == 2);
-    REQUIRE(s[0].points.size() == 2);
-    CHECK(s[0].points[0].x == "2");  // numeric order, not string order
-    CHECK(s[0].points[0].y.mean == doctest::Approx(2.0));
-    CHECK(s[0].points[0].y.stderr_ == doctest::Approx(1.0));  // sd sqrt(2) / sqrt(2)
-    CHECK(s[0].points[1].y.n == 1);
-    CHECK(s[1].points[0].y.mean == doctest::Approx(7.0));
-  }
-
   TEST_CASE("equal-time plots: x a metric, one point per configuration at its means, rows chosen by \"where\"") {
     std::vector<Row> rows;
     auto add = [&](const std::string& scene, const std::string& integrator, const std::string& spp, double ms, double err) {
@@ -418,6 +389,11 @@ TEST_SUITE("study") {
     CHECK(series_label("integrator+pt.shift", rows[2]) == "pt");
     CHECK(series_label("integrator+pt.shift", rows[1]) == "restir-pt hybrid");
     CHECK(series_label("scene", rows[0]) == "teapot");
+    Row capped;
+    capped.options = {{"integrator", "restir-di"}, {"di.max_history", "0"}};
+    CHECK(series_label("di.max_history", capped) == "no cap");
+    capped.options = {{"integrator", "restir-di"}, {"di.max_history", "20"}};
+    CHECK(series_label("di.max_history", capped) == "20");
     // Three series around category 0, in order, none on top of another; the tick is the scene's name.
     CHECK(s[0].points[0].xpos < s[1].points[0].xpos);
     CHECK(s[1].points[0].xpos < s[2].points[0].xpos);
@@ -441,13 +417,6 @@ TEST_SUITE("study") {
     CHECK(st.baseline[1].second == "1");
     CHECK(error_of(study_json(R"("baseline": {"render.sp": 1})")).find("render.sp") != std::string::npos);
     CHECK(error_of(study_json(R"("baseline": [1])")).find("baseline") != std::string::npos);
-  }
-
-  TEST_CASE("noise: per-pixel standard deviation across seeds") {
-    Image a(4, 2, Rgb(1.0f)), b(4, 2, Rgb(3.0f));
-    CHECK(noise_across({a, b}) == doctest::Approx(std::sqrt(2.0)));
-    CHECK(noise_across({a, a, a}) == doctest::Approx(0.0));
-    CHECK(std::isnan(noise_across({a})));
   }
 
   TEST_CASE("a study writes CSV, plots, images and report; the reference cache is reused") {

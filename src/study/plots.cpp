@@ -105,7 +105,9 @@ std::string series_label(const std::string& series_key, const Row& r,
   std::string label;
   for (const auto& k : split_keys(series_key)) {
     if (!relevant(k, r)) continue;
-    const std::string v = k == "scene" ? scene_name(r.scene) : r.option(k);
+    std::string v = k == "scene" ? scene_name(r.scene) : r.option(k);
+    // max_history 0 means "no cap" (options.h); a legend saying "0" reads as a cap of zero.
+    if (v == "0" && k.size() > 12 && k.compare(k.size() - 12, 12, ".max_history") == 0) v = "no cap";
     label += (label.empty() ? "" : " ") + v;
   }
   if (!baseline.empty() && r.matches(baseline)) label += " (baseline)";

@@ -36,7 +36,8 @@ std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& row
 // A series' legend text: the values of the series keys ("a+b") the row's integrator reads (pt.*
 // only for restir-pt, di.* for restir-di and restir-pt with pt.direct=restir-di, gi.* for
 // restir-gi, ssr.* for ssr, path.* for all but restir-di), joined by spaces, plus " (baseline)"
-// when the row matches `baseline`. A scene is named by its file stem.
+// when the row matches `baseline`. A scene is named by its file stem, an M-cap of 0 (*.max_history)
+// "no cap".
 std::string series_label(const std::string& series_key, const Row& r,
                          const std::vector<std::pair<std::string, std::string>>& baseline = {});
 // Drops the integrator's name from labels that say more than it, when the labels stay distinct
