@@ -67,11 +67,7 @@ struct ShadeStage {
   Rgb* sum;
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * g.width + x);
-    Rgb d;
-    if (debug_view_value(view, reservoirs[p], dbg, p, d)) {
-      sum[p] += d;
-      return;
-    }
+    if (add_debug_view(view, reservoirs[p], dbg, p, sum)) return;
     sum[p] += di_shade(w, tracer, g.at(x, y), reservoirs[p], visibility_reuse, p, f.frame, f.seed, f.chain);
   }
 };

@@ -10,6 +10,7 @@
 #include "integrators/di_candidates.h"
 #include "integrators/di_kernel.h"
 #include "integrators/path_kernel.h"
+#include "integrators/reuse_pixel.h"
 #include "restir/reservoir.h"
 
 namespace rl {
@@ -312,7 +313,7 @@ RESTIR_HD inline Rgb di_shade(const PathWorld& w, const Tracer& tracer, const GS
     if (!visibility_reuse && tracer.occluded(shadow)) contrib = Rgb(0);
     L += contrib;
   }
-  if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());  // mark_non_finite's policy (reuse_passes.h)
+  mark_non_finite(r, L);
   return L;
 }
 

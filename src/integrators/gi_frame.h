@@ -49,11 +49,7 @@ struct ShadeStage {
   Rgb* sum;
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * g.width + x);
-    Rgb d;
-    if (debug_view_value(view, reservoirs[p], dbg, p, d)) {
-      sum[p] += d;
-      return;
-    }
+    if (add_debug_view(view, reservoirs[p], dbg, p, sum)) return;
     sum[p] += gi_shade(g.at(x, y), reservoirs[p], specular[p]);
   }
 };

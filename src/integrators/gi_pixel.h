@@ -5,6 +5,7 @@
 #pragma once
 #include "integrators/gbuffer.h"
 #include "integrators/path_kernel.h"
+#include "integrators/reuse_pixel.h"
 #include "restir/reservoir.h"
 #include "restir/shift.h"
 
@@ -138,7 +139,7 @@ RESTIR_HD Rgb gi_direct_in(const PathWorld& w, const Tracer& tracer, const GSurf
 RESTIR_HD inline Rgb gi_shade(const GSurface& sf, const GiReservoir& r, Rgb specular) {
   Rgb L = sf.valid ? sf.emitted + specular : sf.background;
   if (sf.valid && r.has_sample()) L += gi_integrand(sf, r.sample) * r.ucw;  // visible: the target included it
-  if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());  // mark_non_finite's policy
+  mark_non_finite(r, L);
   return L;
 }
 

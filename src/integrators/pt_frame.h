@@ -52,16 +52,8 @@ struct ShadeStage {
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * g.width + x);
     const PathReservoir& r = reservoirs[p];
-    Rgb d;
-    if (debug_view_value(view, r, dbg, p, d, r.has_sample() ? r.sample.rc : 0)) {
-      sum[p] += d;
-      return;
-    }
-    const GSurface& sf = g.at(x, y);
-    Rgb L = direct_from_di ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
-    if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
-    if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());  // mark_non_finite's policy
-    sum[p] += L;
+    if (add_debug_view(view, r, dbg, p, sum, r.has_sample() ? r.sample.rc : 0)) return;
+    sum[p] += pt_shade(g.at(x, y), r, direct_from_di);
   }
 };
 

@@ -5,6 +5,7 @@
 #include "integrators/direction_sampling.h"
 #include "integrators/path_kernel.h"
 #include "integrators/pt_path.h"
+#include "integrators/reuse_pixel.h"
 #include "restir/shift.h"
 
 namespace rl {
@@ -543,5 +544,14 @@ struct PtViewBridge {
     return luminance(y.contribution) * jacobian;
   }
 };
+
+// A pixel's radiance: the emission its primary hit sees (unless ReSTIR DI adds it, pt.direct =
+// restir-di) + f(Y) W_Y of its reservoir's path, W_Y its unbiased contribution weight (Lin et al. 2022).
+RESTIR_HD inline Rgb pt_shade(const GSurface& sf, const PathReservoir& r, bool direct_from_di) {
+  Rgb L = direct_from_di ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
+  if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
+  mark_non_finite(r, L);
+  return L;
+}
 
 }  // namespace rl

@@ -121,11 +121,7 @@ class RestirDi final : public Integrator {
     const ReuseDebugView dv = c.debug.view();
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
-      Rgb dbg;
-      if (debug_view_value(o.render.debug_view, c.reservoirs[p], dv, p, dbg)) {
-        sum[p] += dbg;
-        return;
-      }
+      if (add_debug_view(o.render.debug_view, c.reservoirs[p], dv, p, sum.data())) return;
       sum[p] += di_shade(world, tracer, g.at(x, y), c.reservoirs[p], di.visibility_reuse, p, f, seed, chain);
     });
 

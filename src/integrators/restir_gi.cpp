@@ -153,15 +153,11 @@ class RestirGi final : public Integrator {
     c.reuse(rp, frame, make_bridge, seed, s);
 
     StageTimer timer(frame.stages, "shading");
+    const ReuseDebugView dv = c.debug.view();
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
-      const GSurface& sf = g.at(x, y);
-      Rgb dbg;
-      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg)) {
-        sum[p] += dbg;
-        return;
-      }
-      sum[p] += gi_shade(sf, c.reservoirs[p], c.specular[p]);
+      if (add_debug_view(o.render.debug_view, c.reservoirs[p], dv, p, sum.data())) return;
+      sum[p] += gi_shade(g.at(x, y), c.reservoirs[p], c.specular[p]);
     });
 
     c.end_frame();

@@ -8,6 +8,7 @@
 #include "integrators/cuda_maker.h"
 #include "integrators/path_tracer.h"
 #include "integrators/pt_path.h"
+#include "integrators/pt_path_kernel.h"
 #include "integrators/restir_cuda.h"
 #include "integrators/reuse_passes.h"
 
@@ -117,20 +118,12 @@ class RestirPt final : public Integrator {
 
     // 4. Shading: emission at the primary hit + f(Y) W.
     StageTimer timer(frame.stages, "shading");
+    const ReuseDebugView dv = c.debug.view();
     parallel_for_pixels(w, h, [&](int x, int y) {
       const uint32_t p = uint32_t(y * w + x);
-      const GSurface& sf = g.at(x, y);
-      Rgb dbg;
-      const int rc = c.reservoirs[p].has_sample() ? c.reservoirs[p].sample.rc : 0;
-      if (debug_view_value(o.render.debug_view, c.reservoirs[p], c.debug, p, dbg, rc)) {
-        sum[p] += dbg;
-        return;
-      }
-      Rgb L = direct_ ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
       const PathReservoir& r = c.reservoirs[p];
-      if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
-      mark_non_finite(r, L);
-      sum[p] += L;
+      if (add_debug_view(o.render.debug_view, r, dv, p, sum.data(), r.has_sample() ? r.sample.rc : 0)) return;
+      sum[p] += pt_shade(g.at(x, y), r, direct_ != nullptr);
     });
 
     if (o.render.debug_view == DebugView::reconnection_depth) print_reconnection_histogram(frame.index, s, c.reservoirs);

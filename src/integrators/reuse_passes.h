@@ -26,19 +26,6 @@ struct ReuseDebug {
   ReuseDebugView view() { return {source.data(), tried.data(), rejected.data()}; }
 };
 
-// The non-finite policy of every integrator: a reservoir that met a NaN or infinite target makes
-// its pixel NaN, and the render driver reports the frame's non-finite pixels (render.cpp).
-template <class Sample>
-void mark_non_finite(const restir::Reservoir<Sample>& r, Rgb& L) {
-  if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());
-}
-
-template <class Sample>
-bool debug_view_value(DebugView view, const restir::Reservoir<Sample>& r, ReuseDebug& dbg, size_t p, Rgb& out,
-                      int reconnection_depth = 0) {
-  return debug_view_value(view, r, dbg.view(), p, out, reconnection_depth);
-}
-
 // Temporal reuse over the frame (temporal_pixel, reuse_pixel.h, at every pixel), then the
 // output swapped in as the reservoirs.
 template <class Sample, class MakeBridge>

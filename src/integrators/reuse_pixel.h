@@ -6,6 +6,7 @@
 // surfaces of the inputs (index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "core/rng.h"
@@ -40,6 +41,13 @@ struct ReuseFrame {
   uint32_t chain = 0;
 };
 
+// The non-finite policy of every integrator: a reservoir that met a NaN or infinite target makes
+// its pixel NaN, and the render driver reports the frame's non-finite pixels (render.cpp).
+template <class Sample>
+RESTIR_HD void mark_non_finite(const restir::Reservoir<Sample>& r, Rgb& L) {
+  if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());
+}
+
 // The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
 // reconnection_depth: the final sample's reconnection vertex, for integrators that have one
 // (ReSTIR PT); the others reject that view when they are made.
@@ -54,6 +62,17 @@ RESTIR_HD bool debug_view_value(DebugView view, const restir::Reservoir<Sample>&
     case DebugView::reconnection_depth: out = Rgb(float(reconnection_depth)); return true;
   }
   return false;
+}
+
+// The shading stages' prologue: with a debug view on, adds its value to sum[p] and returns true
+// (the stage shades nothing); with none, returns false.
+template <class Sample>
+RESTIR_HD bool add_debug_view(DebugView view, const restir::Reservoir<Sample>& r, const ReuseDebugView& dbg, size_t p, Rgb* sum,
+                              int reconnection_depth = 0) {
+  Rgb d;
+  if (!debug_view_value(view, r, dbg, p, d, reconnection_depth)) return false;
+  sum[p] += d;
+  return true;
 }
 
 // Temporal reuse at pixel (x, y): its reservoir combined with last frame's final reservoir at the
