@@ -13,617 +13,374 @@
 // Paths (plymesh, textures, env maps) are resolved as pbrt-v4 does, against the directory of the
 // top-level scene file, falling back to the directory of the file that contains the directive;
 // Include/Import try the including file's directory first, then the top-level one.
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include <fmt/format.h>
 
-#include "scene/loader.h"
-#include "scene/pbrt_tokenizer.h"
-#include "scene/ply.h"
+#include "scene/pbrt_parser.h"
 
 namespace rl {
-namespace {
+namespace pbrt {
 
-using pbrt::ParamList;
-using pbrt::Token;
-using Kind = pbrt::Token::Kind;
 namespace fs = std::filesystem;
+using Kind = Token::Kind;
 
-struct GState {
-  Mat4 ctm[2];
-  int material = 0;
-  bool reverse = false;
-  std::optional<AreaEmission> area;
-  int shape_animation = -1, light_animation = -1;  // Attribute "shape"/"light" "string animation"
-};
-
-struct Pushed {
-  char kind;  // 'a' attribute, 't' transform, 'o' object
-  GState state;
-  std::string file;
-  int line;
-};
-
-struct Instance {
-  std::vector<TriangleMesh> meshes;
-  std::vector<Sphere> spheres;
-};
-
-bool within_world(Vec3 p) {
-  return std::fabs(p.x) <= kMaxWorldCoordinate && std::fabs(p.y) <= kMaxWorldCoordinate &&
-         std::fabs(p.z) <= kMaxWorldCoordinate;  // false for NaN
-}
-
-class Parser {
- public:
-  explicit Parser(const std::string& path) : main_path_(path) {
-    main_dir_ = fs::path(path).parent_path();
-    scene_.source_path = path;
-    Material def;
-    def.name = "default";
-    scene_.materials.push_back(def);
-  }
-
-  Scene run() {
-    tok_.push_file(main_path_, main_path_, 0);
-    for (;;) {
-      Token t = tok_.next();
-      if (t.kind == Kind::eof) break;
-      if (t.kind != Kind::word) t.fail("unexpected '" + t.text + "' (expected a directive)");
-      directive(t);
-    }
-    if (!stack_.empty()) {
-      const Pushed& p = stack_.back();
-      const char* what = p.kind == 'a' ? "AttributeBegin" : p.kind == 't' ? "TransformBegin" : "ObjectBegin";
-      throw SceneError(p.file, p.line, std::string(what) + " not closed before the end of the file");
-    }
-    if (!in_world_) throw SceneError(main_path_, 0, "no WorldBegin in the scene file");
-    if (scene_.camera.keys.empty()) scene_.camera.keys.push_back(CameraKey{});  // pbrt default: fov 90 at the origin
-    for (const std::string& f : tok_.files()) scene_.input_files.push_back(f);
-    return std::move(scene_);
-  }
-
- private:
-  void warn(const Token& t, const std::string& msg) { pbrt::warn(t, msg); }
-  std::string expect_string(const Token& d) {
+Scene Parser::run() {
+  tok_.push_file(main_path_, main_path_, 0);
+  for (;;) {
     Token t = tok_.next();
-    if (t.kind != Kind::string) d.fail(d.text + ": expected a quoted string argument");
-    return t.text;
+    if (t.kind == Kind::eof) break;
+    if (t.kind != Kind::word) t.fail("unexpected '" + t.text + "' (expected a directive)");
+    directive(t);
   }
-  float expect_number(const Token& d) {
-    Token t = tok_.next();
-    if (t.kind != Kind::word) d.fail(d.text + ": expected a number");
-    float v = 0;
-    try {
-      size_t pos = 0;
-      v = std::stof(t.text, &pos);
-      if (pos != t.text.size()) throw std::invalid_argument(t.text);
-    } catch (const std::out_of_range&) {
-      t.fail(d.text + ": value '" + t.text + "' is not a finite number");
-    } catch (const std::exception&) {
-      t.fail(d.text + ": expected a number, got '" + t.text + "'");
-    }
-    if (!std::isfinite(v)) t.fail(d.text + ": value '" + t.text + "' is not a finite number");
-    return v;
+  if (!stack_.empty()) {
+    const Pushed& p = stack_.back();
+    const char* what = p.kind == 'a' ? "AttributeBegin" : p.kind == 't' ? "TransformBegin" : "ObjectBegin";
+    throw SceneError(p.file, p.line, std::string(what) + " not closed before the end of the file");
   }
-  std::vector<float> expect_numbers(const Token& d, int n) {  // "[ n numbers ]" or n bare numbers
-    bool br = tok_.peek().kind == Kind::lbracket;
-    if (br) tok_.next();
-    std::vector<float> v;
-    for (int i = 0; i < n; ++i) v.push_back(expect_number(d));
-    if (br && tok_.next().kind != Kind::rbracket) d.fail(d.text + ": expected ']' after " + std::to_string(n) + " numbers");
-    return v;
-  }
-  std::string resolve(const std::string& f, const Token& d, bool include_first) const {
-    fs::path p(f);
-    if (p.is_absolute()) return f;
-    fs::path here = fs::path(*d.file).parent_path() / p, top = main_dir_ / p;
-    if (include_first) return fs::exists(here) || !fs::exists(top) ? here.string() : top.string();
-    return fs::exists(top) || !fs::exists(here) ? top.string() : here.string();
-  }
-  // Every transform must stay finite and invertible: a singular or overflowing CTM would give
-  // non-finite geometry or rays later, far from the directive that caused it.
-  void apply(const Token& d, const Mat4& m, bool post = true) {
-    for (int i = 0; i < 2; ++i) {
-      if (!(active_ & (1 << i))) continue;
-      Mat4 r = post ? gs_.ctm[i] * m : m, inv;
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          if (!std::isfinite(r.m[a][b])) d.fail(d.text + ": the current transform overflows (non-finite matrix)");
-      if (!std::isfinite(r.det3())) d.fail(d.text + ": the current transform overflows (its determinant is not finite)");
-      if (!r.inverse(inv) || r.det3() == 0) d.fail(d.text + ": the current transform becomes singular");
-      gs_.ctm[i] = r;
-    }
-  }
-  void need_world(const Token& d, bool world) {
-    if (world && !in_world_) d.fail(d.text + " is not allowed before WorldBegin");
-    if (!world && in_world_) d.fail(d.text + " is not allowed after WorldBegin");
-  }
-
-  void directive(const Token& d) {
-    const std::string& n = d.text;
-    if (n == "Include" || n == "Import") {
-      std::string f = resolve(expect_string(d), d, true);
-      tok_.push_file(f, *d.file, d.line);
-    } else if (n == "Identity") {
-      apply(d, Mat4::identity(), false);
-    } else if (n == "Translate") {
-      auto v = expect_numbers(d, 3);
-      apply(d, translate(Vec3(v[0], v[1], v[2])));
-    } else if (n == "Scale") {
-      auto v = expect_numbers(d, 3);
-      if (v[0] == 0 || v[1] == 0 || v[2] == 0) d.fail("Scale: a zero factor makes the transform singular");
-      apply(d, scale(Vec3(v[0], v[1], v[2])));
-    } else if (n == "Rotate") {
-      auto v = expect_numbers(d, 4);
-      if (v[1] == 0 && v[2] == 0 && v[3] == 0) d.fail("Rotate: zero axis");
-      apply(d, rotate(v[0], Vec3(v[1], v[2], v[3])));
-    } else if (n == "LookAt") {
-      auto v = expect_numbers(d, 9);
-      for (int i = 0; i < 6; ++i)
-        if (std::fabs(v[size_t(i)]) > kMaxWorldCoordinate)
-          d.fail(fmt::format("LookAt: {} {} lies beyond the supported world extent (|x| <= {:g})", i < 3 ? "eye" : "target",
-                             v[size_t(i)], kMaxWorldCoordinate));
-      Mat4 m;
-      if (!look_at(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), Vec3(v[6], v[7], v[8]), m))
-        d.fail("LookAt: degenerate (eye == target or up parallel to the view direction)");
-      apply(d, m);
-    } else if (n == "Transform" || n == "ConcatTransform") {
-      auto v = expect_numbers(d, 16);
-      Mat4 m;  // pbrt gives the matrix column by column: m[row][col] = v[col*4 + row]
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) m.m[r][c] = v[size_t(c * 4 + r)];
-      Mat4 inv;
-      if (!m.inverse(inv)) d.fail(n + ": singular matrix");
-      apply(d, m, n == "ConcatTransform");
-    } else if (n == "CoordinateSystem") {
-      named_cs_[expect_string(d)] = {gs_.ctm[0], gs_.ctm[1]};
-    } else if (n == "CoordSysTransform") {
-      std::string name = expect_string(d);
-      auto it = named_cs_.find(name);
-      if (it == named_cs_.end()) d.fail("CoordSysTransform: unknown coordinate system '" + name + "'");
-      for (int i = 0; i < 2; ++i)
-        if (active_ & (1 << i)) gs_.ctm[i] = it->second[i];
-    } else if (n == "ActiveTransform") {
-      Token a = tok_.next();
-      if (a.text == "StartTime") active_ = 1;
-      else if (a.text == "EndTime") active_ = 2;
-      else if (a.text == "All") active_ = 3;
-      else a.fail("ActiveTransform: expected StartTime, EndTime or All, got '" + a.text + "'");
-    } else if (n == "TransformTimes") {
-      expect_numbers(d, 2);
-    } else if (n == "ReverseOrientation") {
-      gs_.reverse = !gs_.reverse;
-    } else if (n == "AttributeBegin" || n == "TransformBegin") {
-      stack_.push_back({n == "AttributeBegin" ? 'a' : 't', gs_, *d.file, d.line});
-      saved_active_.push_back(active_);
-    } else if (n == "AttributeEnd" || n == "TransformEnd") {
-      char k = n == "AttributeEnd" ? 'a' : 't';
-      if (stack_.empty() || stack_.back().kind != k) d.fail(n + " without a matching " + (k == 'a' ? "AttributeBegin" : "TransformBegin"));
-      if (k == 'a') gs_ = stack_.back().state;
-      else gs_.ctm[0] = stack_.back().state.ctm[0], gs_.ctm[1] = stack_.back().state.ctm[1];
-      active_ = saved_active_.back();
-      saved_active_.pop_back();
-      stack_.pop_back();
-    } else if (n == "WorldBegin") {
-      need_world(d, false);
-      in_world_ = true;
-      gs_.ctm[0] = gs_.ctm[1] = Mat4::identity();
-      active_ = 3;
-      named_cs_["world"] = {Mat4::identity(), Mat4::identity()};
-    } else if (n == "WorldEnd") {
-      need_world(d, true);
-    } else if (n == "Camera") {
-      camera(d);
-    } else if (n == "Film" || n == "Sampler" || n == "Integrator" || n == "PixelFilter") {
-      render_settings(d);
-    } else if (n == "ColorSpace") {
-      expect_string(d);
-      warn(d, "ColorSpace ignored (everything is linear sRGB)");
-    } else if (n == "Option") {
-      parse_params(tok_);
-      warn(d, "Option ignored");
-    } else if (n == "Attribute") {
-      std::string target = expect_string(d);
-      attribute(d, target, parse_params(tok_));
-    } else if (n == "MakeNamedMaterial") {
-      std::string name = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      if (named_mat_.count(name)) d.fail("named material '" + name + "' redefined");
-      std::string type = pl.get_string("type", "");
-      if (type.empty()) d.fail("MakeNamedMaterial '" + name + "': missing \"string type\"");
-      named_mat_[name] = add_material(d, type, name, pl);
-    } else if (n == "NamedMaterial") {
-      std::string name = expect_string(d);
-      auto it = named_mat_.find(name);
-      if (it == named_mat_.end()) d.fail("NamedMaterial: unknown material '" + name + "'");
-      gs_.material = it->second;
-    } else if (n == "Material") {
-      std::string type = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      gs_.material = add_material(d, type, "", pl);
-    } else if (n == "Texture") {
-      std::string name = expect_string(d), type = expect_string(d), cls = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      texture(d, name, type, cls, pl);
-    } else if (n == "AreaLightSource") {
-      std::string type = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      if (type != "diffuse") d.fail("unsupported area light '" + type + "' (only \"diffuse\")");
-      AreaEmission e;
-      pl.check_range("L", 0);
-      pl.check_range("scale", 0);
-      e.radiance = pl.get_rgb("L", true).value_or(Rgb(1)) * pl.get_float("scale", 1);
-      e.two_sided = pl.get_bool("twosided", false);
-      pl.check_unused("AreaLightSource \"diffuse\"");
-      gs_.area = e;
-    } else if (n == "LightSource") {
-      std::string type = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      light(d, type, pl);
-    } else if (n == "Shape") {
-      std::string type = expect_string(d);
-      ParamList pl = parse_params(tok_);
-      need_world(d, true);
-      shape(d, type, pl);
-    } else if (n == "ObjectBegin") {
-      std::string name = expect_string(d);
-      need_world(d, true);
-      if (current_instance_) d.fail("ObjectBegin inside ObjectBegin");
-      if (instances_.count(name)) d.fail("object '" + name + "' redefined");
-      stack_.push_back({'o', gs_, *d.file, d.line});
-      saved_active_.push_back(active_);
-      current_instance_ = &instances_[name];
-    } else if (n == "ObjectEnd") {
-      if (stack_.empty() || stack_.back().kind != 'o') d.fail("ObjectEnd without a matching ObjectBegin");
-      gs_ = stack_.back().state;
-      active_ = saved_active_.back();
-      saved_active_.pop_back();
-      stack_.pop_back();
-      current_instance_ = nullptr;
-    } else if (n == "ObjectInstance") {
-      std::string name = expect_string(d);
-      need_world(d, true);
-      if (current_instance_) d.fail("ObjectInstance inside ObjectBegin");
-      auto it = instances_.find(name);
-      if (it == instances_.end()) d.fail("ObjectInstance: unknown object '" + name + "'");
-      instantiate(d, it->second);
-    } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
-      d.fail("unsupported directive '" + n + "' (participating media are not supported)");
-    } else {
-      d.fail("unknown directive '" + n + "'");
-    }
-  }
-
-  void camera(const Token& d) {
-    std::string type = expect_string(d);
-    ParamList pl = parse_params(tok_);
-    need_world(d, false);
-    if (type != "perspective") d.fail("unsupported camera '" + type + "' (only \"perspective\")");
-    float fov = pl.get_float("fov", 90);
-    if (!(fov > 0 && fov < 180)) d.fail("Camera: fov must be in (0, 180) degrees");
-    if (pl.get_float("lensradius", 0) != 0) d.fail("Camera: lensradius > 0 (thin lens) is not supported");
-    pl.ignore("focaldistance");
-    pl.ignore("shutteropen");
-    pl.ignore("shutterclose");
-    pl.check_unused("Camera \"perspective\"");
-    // pbrt-v4 interprets differing start/end camera transforms as motion blur within one frame;
-    // this project reinterprets them as a camera animation across frames (keys[0] -> keys[1]).
-    scene_.camera.keys = {CameraKey{gs_.ctm[0], fov}};
-    bool differ = false;
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) differ = differ || gs_.ctm[0].m[r][c] != gs_.ctm[1].m[r][c];
-    if (differ) scene_.camera.keys.push_back(CameraKey{gs_.ctm[1], fov});
-    Mat4 w0, w1;
-    if (!gs_.ctm[0].inverse(w0) || !gs_.ctm[1].inverse(w1)) d.fail("Camera: singular camera transform");
-    for (const Mat4* w : {&w0, &w1})
-      if (!within_world(w->apply_point(Vec3(0))))
-        d.fail("Camera: the camera position (from LookAt and the transforms before Camera) lies beyond the supported "
-               "world extent");
-    named_cs_["camera"] = {w0, w1};
-  }
-
-  void render_settings(const Token& d) {
-    std::string type = expect_string(d);
-    ParamList pl = parse_params(tok_);
-    need_world(d, false);
-    const std::string& n = d.text;
-    SceneHints& h = scene_.hints;
-    if (n == "Film") {  // pbrt-v4 defaults: 1280 x 720
-      pl.check_range("xresolution", 1);
-      pl.check_range("yresolution", 1);
-      h.width = pl.get_int("xresolution", 1280);
-      h.height = pl.get_int("yresolution", 720);
-      note_hint(d, pl, "xresolution", "film.width");
-      note_hint(d, pl, "yresolution", "film.height");
-      if (pl.find("filename") && !warned_filename_) {
-        warned_filename_ = true;
-        warn(d, "Film \"filename\" ignored (the output path comes from the options)");
-      }
-    } else if (n == "Sampler") {
-      pl.check_range("pixelsamples", 1);
-      h.spp = pl.get_int("pixelsamples", 16);
-      note_hint(d, pl, "pixelsamples", "render.spp");
-    } else if (n == "Integrator") {
-      pl.check_range("maxdepth", 0);
-      h.max_depth = pl.get_int("maxdepth", 5);
-      note_hint(d, pl, "maxdepth", "path.max_depth");
-    } else {
-      float def = 0;
-      if (type == "box") def = 0.5f;
-      else if (type == "triangle") def = 2;
-      else if (type == "gaussian") def = 1.5f;
-      else d.fail("unsupported pixel filter '" + type + "' (box, triangle, gaussian)");
-      h.pixel_filter = type;
-      pl.check_range("xradius", 0, HUGE_VAL, true);
-      pl.check_range("yradius", 0, HUGE_VAL, true);
-      h.filter_radius = pl.get_float("xradius", def);
-      note_hint(d, pl, "xradius", "film.filter_radius");
-      if (pl.get_float("yradius", *h.filter_radius) != *h.filter_radius)
-        warn(d, "PixelFilter: yradius != xradius; using xradius for both");
-    }
-    for (const std::string& u : pl.unused()) warn(d, n + ": parameter \"" + u + "\" ignored");
-  }
-
-  // Remembers where a render hint came from, so that a value the options refuse (xresolution
-  // 100000) is reported at its file:line with the parameter's name.
-  void note_hint(const Token& d, const ParamList& pl, const char* param, const char* option) {
-    for (const pbrt::Param& p : pl.params)
-      if (p.name == param)
-        scene_.hints.where[option] = (p.file ? *p.file : "?") + ":" + std::to_string(p.line) + ": " + d.text +
-                                     " parameter \"" + p.type + " " + p.name + "\"";
-  }
-
-  // Defined in the second half of this file.
-  int add_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl) {
-    scene_.materials.push_back(pbrt::make_material(d, type, name, pl, tex_names_, scene_.textures));
-    return int(scene_.materials.size()) - 1;
-  }
-  void texture(const Token& d, const std::string& name, const std::string& type, const std::string& cls,
-               const ParamList& pl) {
-    if (type != "spectrum" && type != "float") d.fail("Texture: type must be \"spectrum\" or \"float\", got '" + type + "'");
-    auto& names = type == "spectrum" ? tex_names_.spectrum : tex_names_.floats;
-    if (names.count(name)) d.fail("texture '" + name + "' redefined");
-    auto res = [&](const std::string& f) {
-      std::string path = resolve(f, d, false);
-      scene_.input_files.push_back(path);
-      return path;
-    };
-    scene_.textures.push_back(pbrt::make_texture(d, name, cls, pl, tex_names_, scene_.textures, res));
-    names[name] = int(scene_.textures.size()) - 1;
-  }
-  void light(const Token& d, const std::string& type, const ParamList& pl);
-  void shape(const Token& d, const std::string& type, const ParamList& pl);
-  void instantiate(const Token& d, const Instance& inst);
-  void attribute(const Token& d, const std::string& target, const ParamList& pl);
-
-  pbrt::Tokenizer tok_;
-  std::string main_path_;
-  fs::path main_dir_;
-  Scene scene_;
-  GState gs_;
-  std::map<std::string, int> animation_ids_;  // animation file -> index in scene_.animations
-  int active_ = 3;
-  std::vector<int> saved_active_;
-  std::vector<Pushed> stack_;
-  bool in_world_ = false, warned_filename_ = false;
-  std::map<std::string, std::array<Mat4, 2>> named_cs_;
-  std::map<std::string, int> named_mat_;
-  pbrt::NamedTextures tex_names_;
-  std::map<std::string, Instance> instances_;
-  Instance* current_instance_ = nullptr;
-};
-
-// True if the linear part of m is a rotation times a uniform scale s > 0 (no shear, no projection).
-bool uniform_scale(const Mat4& m, float& s) {
-  Vec3 c[3];
-  for (int j = 0; j < 3; ++j) c[j] = Vec3(m.m[0][j], m.m[1][j], m.m[2][j]);
-  float l0 = length(c[0]), l1 = length(c[1]), l2 = length(c[2]);
-  s = l0;
-  if (!(l0 > 0) || m.m[3][0] != 0 || m.m[3][1] != 0 || m.m[3][2] != 0 || m.m[3][3] != 1) return false;
-  float tol = 1e-4f * l0;
-  if (std::fabs(l1 - l0) > tol || std::fabs(l2 - l0) > tol) return false;
-  float t2 = 1e-4f * l0 * l0;
-  return std::fabs(dot(c[0], c[1])) <= t2 && std::fabs(dot(c[0], c[2])) <= t2 && std::fabs(dot(c[1], c[2])) <= t2;
+  if (!in_world_) throw SceneError(main_path_, 0, "no WorldBegin in the scene file");
+  if (scene_.camera.keys.empty()) scene_.camera.keys.push_back(CameraKey{});  // pbrt default: fov 90 at the origin
+  for (const std::string& f : tok_.files()) scene_.input_files.push_back(f);
+  return std::move(scene_);
 }
 
-void Parser::light(const Token& d, const std::string& type, const ParamList& pl) {
-  if (current_instance_) d.fail("LightSource inside ObjectBegin is not supported");
-  pl.check_range("scale", 0);
-  pl.check_range("L", 0);
-  pl.check_range("I", 0);
-  pl.check_range("power", 0);
-  float sc = pl.get_float("scale", 1);
-  if (type == "point") {
-    PointLight l;
-    l.intensity = pl.get_rgb("I", true).value_or(Rgb(1)) * sc;
-    l.position = gs_.ctm[0].apply_point(pl.get_point3("from", Vec3(0)));
-    if (!within_world(l.position)) d.fail("point light: \"from\" lies beyond the supported world extent after the transform");
-    pl.check_unused("LightSource \"point\"");
-    l.animation = gs_.light_animation;
-    scene_.point_lights.push_back(l);
-  } else if (type == "infinite") {
-    if (scene_.environment) d.fail("only one infinite light is supported");
-    EnvironmentLight e;
-    auto L = pl.get_rgb("L", true);
-    std::string f = pl.get_string("filename", "");
-    if (L && !f.empty()) d.fail("infinite light: give either \"L\" or \"filename\", not both");
-    e.world_from_light = gs_.ctm[0];
-    if (!e.world_from_light.inverse(e.light_from_world)) d.fail("infinite light: singular transform");
-    if (!f.empty()) {
-      e.filename = resolve(f, d, false);
-      scene_.input_files.push_back(e.filename);
-      e.image = detail::read_image_for(e.filename, *d.file, d.line);
-      if (e.image.width == e.image.height) e.mapping = EnvironmentLight::Mapping::equal_area;
-      else if (e.image.width == 2 * e.image.height) e.mapping = EnvironmentLight::Mapping::equirect;
-      else d.fail("infinite light: image '" + f + "' is " + std::to_string(e.image.width) + "x" +
-                  std::to_string(e.image.height) + "; expected square (equal-area) or 2:1 (equirectangular)");
-      e.radiance = Rgb(sc);
-    } else {
-      e.mapping = EnvironmentLight::Mapping::constant;
-      e.radiance = L.value_or(Rgb(1)) * sc;
-    }
-    pl.check_unused("LightSource \"infinite\"");
-    e.animation = gs_.light_animation;
-    scene_.environment = std::move(e);
-  } else {
-    d.fail("unsupported light '" + type + "' (supported: point, infinite, and AreaLightSource \"diffuse\")");
-  }
-}
-
-void Parser::shape(const Token& d, const std::string& type, const ParamList& pl) {
-  if (current_instance_ && gs_.area) d.fail("area lights are not supported with object instancing (as in pbrt-v4)");
-  std::vector<TriangleMesh>& out = current_instance_ ? current_instance_->meshes : scene_.meshes;
-  size_t first = out.size();
-  std::string src = *d.file + ":" + std::to_string(d.line);
-  const Mat4& xf = gs_.ctm[0];  // motion blur of shapes is not supported: start transform
+float Parser::expect_number(const Token& d) {
+  Token t = tok_.next();
+  if (t.kind != Kind::word) d.fail(d.text + ": expected a number");
+  float v = 0;
   try {
-    if (type == "trianglemesh") {
-      std::vector<Vec3> P = pl.get_point3s("P");
-      if (P.empty()) d.fail("trianglemesh: missing \"point3 P\"");
-      std::vector<int> idx = pl.get_ints("indices");
-      if (idx.empty()) {
-        if (P.size() != 3) d.fail("trianglemesh: \"integer indices\" required unless there are exactly 3 vertices");
-        idx = {0, 1, 2};
-      }
-      std::vector<uint32_t> ui;
-      for (int i : idx) {
-        if (i < 0 || size_t(i) >= P.size())
-          pl.find("indices")->fail("vertex index " + std::to_string(i) + " is out of range [0, " +
-                                   std::to_string(P.size() - 1) + "]");
-        ui.push_back(uint32_t(i));
-      }
-      auto N = pl.get_normals("N");
-      auto uv = pl.get_point2s("uv");
-      pl.ignore("faceIndices");
-      pl.check_unused("Shape \"trianglemesh\"");
-      out.push_back(detail::make_world_mesh(P, N, uv, ui, xf, gs_.reverse));
-    } else if (type == "plymesh") {
-      std::string f = pl.get_string("filename", "");
-      if (f.empty()) d.fail("plymesh: missing \"string filename\"");
-      std::string path = resolve(f, d, false);
-      if (!fs::exists(path)) d.fail("plymesh: cannot open PLY file '" + path + "'");
-      pl.check_unused("Shape \"plymesh\"");
-      scene_.input_files.push_back(path);
-      PlyMesh pm = read_ply(path);
-      out.push_back(detail::make_world_mesh(pm.positions, pm.normals, pm.uvs, pm.indices, xf, gs_.reverse));
-    } else if (type == "sphere") {
-      pl.check_range("radius", 0, HUGE_VAL, true);
-      float r = pl.get_float("radius", 1);
-      float zmin = pl.get_float("zmin", -r), zmax = pl.get_float("zmax", r), phimax = pl.get_float("phimax", 360);
-      if (zmin > -r || zmax < r || phimax < 360) d.fail("sphere: partial spheres (zmin/zmax/phimax) are not supported");
-      pl.check_unused("Shape \"sphere\"");
-      if (!(r > 0)) d.fail("sphere: radius must be positive");
-      float s;
-      if (!uniform_scale(xf, s)) d.fail("sphere: its transform must be a rotation, translation and uniform scale");
-      Sphere sp;
-      sp.center = xf.apply_point(Vec3(0));
-      sp.radius = r * s;
-      if (!within_world(sp.center) || !(sp.radius <= kMaxWorldCoordinate))
-        d.fail(fmt::format("sphere: \"radius\" {} lies beyond the supported world extent (|x| <= {:g}) after the transform",
-                           sp.radius, kMaxWorldCoordinate));
-      sp.material = gs_.material;
-      sp.emission = gs_.area;
-      sp.animation = gs_.shape_animation;
-      sp.flip_normal = gs_.reverse != (xf.det3() < 0);
-      (current_instance_ ? current_instance_->spheres : scene_.spheres).push_back(sp);
-    } else if (type == "objmesh" || type == "gltfmesh") {
-      // Project extension (pbrt-v4 has no such shapes): the file's triangles with the current
-      // material, transform, orientation and area light; the file's own materials are ignored.
-      std::string f = pl.get_string("filename", "");
-      if (f.empty()) d.fail(type + ": missing \"string filename\"");
-      std::string path = resolve(f, d, false);
-      if (!fs::exists(path)) d.fail(type + ": cannot open file '" + path + "'");
-      pl.check_unused("Shape \"" + type + "\"");
-      scene_.input_files.push_back(path);
-      detail::MeshImport opt;
-      opt.world_from_object = xf;
-      opt.reverse_orientation = gs_.reverse;
-      opt.use_file_materials = false;
-      opt.material = gs_.material;
-      opt.emission = gs_.area;
-      opt.error_file = *d.file;
-      opt.error_line = d.line;
-      if (type == "objmesh") detail::import_obj(path, opt, scene_, out);
-      else detail::import_gltf(path, opt, scene_, out, nullptr);
-    } else {
-      d.fail("unsupported shape '" + type + "' (supported: trianglemesh, plymesh, sphere, objmesh, gltfmesh)");
-    }
-  } catch (const SceneError&) {
-    throw;
-  } catch (const std::exception& e) {
-    d.fail(type + ": " + e.what());
+    size_t pos = 0;
+    v = std::stof(t.text, &pos);
+    if (pos != t.text.size()) throw std::invalid_argument(t.text);
+  } catch (const std::out_of_range&) {
+    t.fail(d.text + ": value '" + t.text + "' is not a finite number");
+  } catch (const std::exception&) {
+    t.fail(d.text + ": expected a number, got '" + t.text + "'");
   }
-  if (type != "sphere" && out.size() == first) d.fail(type + ": the shape has no triangles");
-  for (size_t i = first; i < out.size(); ++i) {
-    if (out[i].indices.empty()) d.fail(type + ": the shape has no triangles");
-    out[i].material = gs_.material;
-    out[i].emission = gs_.area;
-    out[i].animation = gs_.shape_animation;
-    if (out[i].source.empty()) out[i].source = src;
+  if (!std::isfinite(v)) t.fail(d.text + ": value '" + t.text + "' is not a finite number");
+  return v;
+}
+
+std::vector<float> Parser::expect_numbers(const Token& d, int n) {  // "[ n numbers ]" or n bare numbers
+  bool br = tok_.peek().kind == Kind::lbracket;
+  if (br) tok_.next();
+  std::vector<float> v;
+  for (int i = 0; i < n; ++i) v.push_back(expect_number(d));
+  if (br && tok_.next().kind != Kind::rbracket) d.fail(d.text + ": expected ']' after " + std::to_string(n) + " numbers");
+  return v;
+}
+
+std::string Parser::resolve(const std::string& f, const Token& d, bool include_first) const {
+  fs::path p(f);
+  if (p.is_absolute()) return f;
+  fs::path here = fs::path(*d.file).parent_path() / p, top = main_dir_ / p;
+  if (include_first) return fs::exists(here) || !fs::exists(top) ? here.string() : top.string();
+  return fs::exists(top) || !fs::exists(here) ? top.string() : here.string();
+}
+
+// Every transform must stay finite and invertible: a singular or overflowing CTM would give
+// non-finite geometry or rays later, far from the directive that caused it.
+void Parser::apply(const Token& d, const Mat4& m, bool post) {
+  for (int i = 0; i < 2; ++i) {
+    if (!(active_ & (1 << i))) continue;
+    Mat4 r = post ? gs_.ctm[i] * m : m, inv;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (!std::isfinite(r.m[a][b])) d.fail(d.text + ": the current transform overflows (non-finite matrix)");
+    if (!std::isfinite(r.det3())) d.fail(d.text + ": the current transform overflows (its determinant is not finite)");
+    if (!r.inverse(inv) || r.det3() == 0) d.fail(d.text + ": the current transform becomes singular");
+    gs_.ctm[i] = r;
   }
 }
 
-// pbrt-v4's parameter defaults are not supported, except the project's "string animation" for
-// "shape" and "light" (scene/animation.h): what follows in this attribute block moves.
-void Parser::attribute(const Token& d, const std::string& target, const ParamList& pl) {
-  const std::string f = pl.get_string("animation", "");
-  if (!f.empty()) {
-    if (target != "shape" && target != "light") d.fail("Attribute \"" + target + "\": \"string animation\" applies to \"shape\" or \"light\"");
+void Parser::directive(const Token& d) {
+  const std::string& n = d.text;
+  if (n == "Include" || n == "Import") {
+    std::string f = resolve(expect_string(d), d, true);
+    tok_.push_file(f, *d.file, d.line);
+  } else if (transform_directive(d) || block_directive(d) || scene_directive(d)) {
+    return;
+  } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
+    d.fail("unsupported directive '" + n + "' (participating media are not supported)");
+  } else {
+    d.fail("unknown directive '" + n + "'");
+  }
+}
+
+// The transform directives (pbrt-v4 "Transformations"); false if d is not one of them.
+bool Parser::transform_directive(const Token& d) {
+  const std::string& n = d.text;
+  if (n == "Identity") {
+    apply(d, Mat4::identity(), false);
+  } else if (n == "Translate") {
+    auto v = expect_numbers(d, 3);
+    apply(d, translate(Vec3(v[0], v[1], v[2])));
+  } else if (n == "Scale") {
+    auto v = expect_numbers(d, 3);
+    if (v[0] == 0 || v[1] == 0 || v[2] == 0) d.fail("Scale: a zero factor makes the transform singular");
+    apply(d, scale(Vec3(v[0], v[1], v[2])));
+  } else if (n == "Rotate") {
+    auto v = expect_numbers(d, 4);
+    if (v[1] == 0 && v[2] == 0 && v[3] == 0) d.fail("Rotate: zero axis");
+    apply(d, rotate(v[0], Vec3(v[1], v[2], v[3])));
+  } else if (n == "LookAt") {
+    auto v = expect_numbers(d, 9);
+    for (int i = 0; i < 6; ++i)
+      if (std::fabs(v[size_t(i)]) > kMaxWorldCoordinate)
+        d.fail(fmt::format("LookAt: {} {} lies beyond the supported world extent (|x| <= {:g})", i < 3 ? "eye" : "target",
+                           v[size_t(i)], kMaxWorldCoordinate));
+    Mat4 m;
+    if (!look_at(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), Vec3(v[6], v[7], v[8]), m))
+      d.fail("LookAt: degenerate (eye == target or up parallel to the view direction)");
+    apply(d, m);
+  } else if (n == "Transform" || n == "ConcatTransform") {
+    auto v = expect_numbers(d, 16);
+    Mat4 m;  // pbrt gives the matrix column by column: m[row][col] = v[col*4 + row]
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m.m[r][c] = v[size_t(c * 4 + r)];
+    Mat4 inv;
+    if (!m.inverse(inv)) d.fail(n + ": singular matrix");
+    apply(d, m, n == "ConcatTransform");
+  } else if (n == "CoordinateSystem") {
+    named_cs_[expect_string(d)] = {gs_.ctm[0], gs_.ctm[1]};
+  } else if (n == "CoordSysTransform") {
+    std::string name = expect_string(d);
+    auto it = named_cs_.find(name);
+    if (it == named_cs_.end()) d.fail("CoordSysTransform: unknown coordinate system '" + name + "'");
+    for (int i = 0; i < 2; ++i)
+      if (active_ & (1 << i)) gs_.ctm[i] = it->second[i];
+  } else if (n == "ActiveTransform") {
+    Token a = tok_.next();
+    if (a.text == "StartTime") active_ = 1;
+    else if (a.text == "EndTime") active_ = 2;
+    else if (a.text == "All") active_ = 3;
+    else a.fail("ActiveTransform: expected StartTime, EndTime or All, got '" + a.text + "'");
+  } else if (n == "TransformTimes") {
+    expect_numbers(d, 2);
+  } else if (n == "ReverseOrientation") {
+    gs_.reverse = !gs_.reverse;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// AttributeBegin/End, TransformBegin/End, WorldBegin/End and ObjectBegin/End/ObjectInstance.
+bool Parser::block_directive(const Token& d) {
+  const std::string& n = d.text;
+  if (n == "AttributeBegin" || n == "TransformBegin") {
+    stack_.push_back({n == "AttributeBegin" ? 'a' : 't', gs_, *d.file, d.line});
+    saved_active_.push_back(active_);
+  } else if (n == "AttributeEnd" || n == "TransformEnd") {
+    char k = n == "AttributeEnd" ? 'a' : 't';
+    if (stack_.empty() || stack_.back().kind != k) d.fail(n + " without a matching " + (k == 'a' ? "AttributeBegin" : "TransformBegin"));
+    if (k == 'a') gs_ = stack_.back().state;
+    else gs_.ctm[0] = stack_.back().state.ctm[0], gs_.ctm[1] = stack_.back().state.ctm[1];
+    active_ = saved_active_.back();
+    saved_active_.pop_back();
+    stack_.pop_back();
+  } else if (n == "WorldBegin") {
+    need_world(d, false);
+    in_world_ = true;
+    gs_.ctm[0] = gs_.ctm[1] = Mat4::identity();
+    active_ = 3;
+    named_cs_["world"] = {Mat4::identity(), Mat4::identity()};
+  } else if (n == "WorldEnd") {
     need_world(d, true);
-    const std::string path = resolve(f, d, false);
-    auto it = animation_ids_.find(path);
-    if (it == animation_ids_.end()) {
-      if (!fs::exists(path)) d.fail("Attribute: cannot open animation file '" + path + "'");
-      try {
-        scene_.animations.push_back(load_animation(path));
-      } catch (const SceneError& e) {
-        d.fail(std::string("Attribute \"string animation\": ") + e.what());
-      }
-      scene_.input_files.push_back(path);
-      it = animation_ids_.emplace(path, int(scene_.animations.size()) - 1).first;
-    }
-    (target == "shape" ? gs_.shape_animation : gs_.light_animation) = it->second;
+  } else if (n == "ObjectBegin") {
+    std::string name = expect_string(d);
+    need_world(d, true);
+    if (current_instance_) d.fail("ObjectBegin inside ObjectBegin");
+    if (instances_.count(name)) d.fail("object '" + name + "' redefined");
+    stack_.push_back({'o', gs_, *d.file, d.line});
+    saved_active_.push_back(active_);
+    current_instance_ = &instances_[name];
+  } else if (n == "ObjectEnd") {
+    if (stack_.empty() || stack_.back().kind != 'o') d.fail("ObjectEnd without a matching ObjectBegin");
+    gs_ = stack_.back().state;
+    active_ = saved_active_.back();
+    saved_active_.pop_back();
+    stack_.pop_back();
+    current_instance_ = nullptr;
+  } else if (n == "ObjectInstance") {
+    std::string name = expect_string(d);
+    need_world(d, true);
+    if (current_instance_) d.fail("ObjectInstance inside ObjectBegin");
+    auto it = instances_.find(name);
+    if (it == instances_.end()) d.fail("ObjectInstance: unknown object '" + name + "'");
+    instantiate(d, it->second);
+  } else {
+    return false;
   }
-  for (const std::string& u : pl.unused()) warn(d, "Attribute: parameter \"" + u + "\" ignored (parameter defaults are not supported)");
+  return true;
 }
 
-void Parser::instantiate(const Token& d, const Instance& inst) {
-  const Mat4& xf = gs_.ctm[0];
-  for (TriangleMesh m : inst.meshes) {
-    try {
-      detail::transform_mesh(m, xf);
-    } catch (const std::exception& e) {
-      d.fail(std::string("ObjectInstance: ") + e.what());
-    }
-    m.source += " (instance at " + *d.file + ":" + std::to_string(d.line) + ")";
-    if (gs_.shape_animation >= 0) m.animation = gs_.shape_animation;  // the instance moves
-    scene_.meshes.push_back(std::move(m));
+// Camera, render settings, materials, textures, lights and shapes.
+bool Parser::scene_directive(const Token& d) {
+  const std::string& n = d.text;
+  if (n == "Camera") {
+    camera(d);
+  } else if (n == "Film" || n == "Sampler" || n == "Integrator" || n == "PixelFilter") {
+    render_settings(d);
+  } else if (n == "ColorSpace") {
+    expect_string(d);
+    warn(d, "ColorSpace ignored (everything is linear sRGB)");
+  } else if (n == "Option") {
+    parse_params(tok_);
+    warn(d, "Option ignored");
+  } else if (n == "Attribute") {
+    std::string target = expect_string(d);
+    attribute(d, target, parse_params(tok_));
+  } else if (n == "MakeNamedMaterial") {
+    std::string name = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    if (named_mat_.count(name)) d.fail("named material '" + name + "' redefined");
+    std::string type = pl.get_string("type", "");
+    if (type.empty()) d.fail("MakeNamedMaterial '" + name + "': missing \"string type\"");
+    named_mat_[name] = add_material(d, type, name, pl);
+  } else if (n == "NamedMaterial") {
+    std::string name = expect_string(d);
+    auto it = named_mat_.find(name);
+    if (it == named_mat_.end()) d.fail("NamedMaterial: unknown material '" + name + "'");
+    gs_.material = it->second;
+  } else if (n == "Material") {
+    std::string type = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    gs_.material = add_material(d, type, "", pl);
+  } else if (n == "Texture") {
+    std::string name = expect_string(d), type = expect_string(d), cls = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    texture(d, name, type, cls, pl);
+  } else if (n == "AreaLightSource") {
+    std::string type = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    if (type != "diffuse") d.fail("unsupported area light '" + type + "' (only \"diffuse\")");
+    AreaEmission e;
+    pl.check_range("L", 0);
+    pl.check_range("scale", 0);
+    e.radiance = pl.get_rgb("L", true).value_or(Rgb(1)) * pl.get_float("scale", 1);
+    e.two_sided = pl.get_bool("twosided", false);
+    pl.check_unused("AreaLightSource \"diffuse\"");
+    gs_.area = e;
+  } else if (n == "LightSource") {
+    std::string type = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    light(d, type, pl);
+  } else if (n == "Shape") {
+    std::string type = expect_string(d);
+    ParamList pl = parse_params(tok_);
+    need_world(d, true);
+    shape(d, type, pl);
+  } else {
+    return false;
   }
-  for (Sphere sp : inst.spheres) {
-    float s;
-    if (!uniform_scale(xf, s)) d.fail("ObjectInstance: spheres need a rotation, translation and uniform scale");
-    sp.center = xf.apply_point(sp.center);
-    sp.radius *= s;
-    if (xf.det3() < 0) sp.flip_normal = !sp.flip_normal;
-    if (gs_.shape_animation >= 0) sp.animation = gs_.shape_animation;
-    scene_.spheres.push_back(sp);
-  }
+  return true;
 }
 
-}  // namespace
+void Parser::camera(const Token& d) {
+  std::string type = expect_string(d);
+  ParamList pl = parse_params(tok_);
+  need_world(d, false);
+  if (type != "perspective") d.fail("unsupported camera '" + type + "' (only \"perspective\")");
+  float fov = pl.get_float("fov", 90);
+  if (!(fov > 0 && fov < 180)) d.fail("Camera: fov must be in (0, 180) degrees");
+  if (pl.get_float("lensradius", 0) != 0) d.fail("Camera: lensradius > 0 (thin lens) is not supported");
+  pl.ignore("focaldistance");
+  pl.ignore("shutteropen");
+  pl.ignore("shutterclose");
+  pl.check_unused("Camera \"perspective\"");
+  // pbrt-v4 interprets differing start/end camera transforms as motion blur within one frame;
+  // this project reinterprets them as a camera animation across frames (keys[0] -> keys[1]).
+  scene_.camera.keys = {CameraKey{gs_.ctm[0], fov}};
+  bool differ = false;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) differ = differ || gs_.ctm[0].m[r][c] != gs_.ctm[1].m[r][c];
+  if (differ) scene_.camera.keys.push_back(CameraKey{gs_.ctm[1], fov});
+  Mat4 w0, w1;
+  if (!gs_.ctm[0].inverse(w0) || !gs_.ctm[1].inverse(w1)) d.fail("Camera: singular camera transform");
+  for (const Mat4* w : {&w0, &w1})
+    if (!within_world(w->apply_point(Vec3(0))))
+      d.fail("Camera: the camera position (from LookAt and the transforms before Camera) lies beyond the supported "
+             "world extent");
+  named_cs_["camera"] = {w0, w1};
+}
+
+void Parser::render_settings(const Token& d) {
+  std::string type = expect_string(d);
+  ParamList pl = parse_params(tok_);
+  need_world(d, false);
+  const std::string& n = d.text;
+  SceneHints& h = scene_.hints;
+  if (n == "Film") {  // pbrt-v4 defaults: 1280 x 720
+    pl.check_range("xresolution", 1);
+    pl.check_range("yresolution", 1);
+    h.width = pl.get_int("xresolution", 1280);
+    h.height = pl.get_int("yresolution", 720);
+    note_hint(d, pl, "xresolution", "film.width");
+    note_hint(d, pl, "yresolution", "film.height");
+    if (pl.find("filename") && !warned_filename_) {
+      warned_filename_ = true;
+      warn(d, "Film \"filename\" ignored (the output path comes from the options)");
+    }
+  } else if (n == "Sampler") {
+    pl.check_range("pixelsamples", 1);
+    h.spp = pl.get_int("pixelsamples", 16);
+    note_hint(d, pl, "pixelsamples", "render.spp");
+  } else if (n == "Integrator") {
+    pl.check_range("maxdepth", 0);
+    h.max_depth = pl.get_int("maxdepth", 5);
+    note_hint(d, pl, "maxdepth", "path.max_depth");
+  } else {
+    float def = 0;
+    if (type == "box") def = 0.5f;
+    else if (type == "triangle") def = 2;
+    else if (type == "gaussian") def = 1.5f;
+    else d.fail("unsupported pixel filter '" + type + "' (box, triangle, gaussian)");
+    h.pixel_filter = type;
+    pl.check_range("xradius", 0, HUGE_VAL, true);
+    pl.check_range("yradius", 0, HUGE_VAL, true);
+    h.filter_radius = pl.get_float("xradius", def);
+    note_hint(d, pl, "xradius", "film.filter_radius");
+    if (pl.get_float("yradius", *h.filter_radius) != *h.filter_radius)
+      warn(d, "PixelFilter: yradius != xradius; using xradius for both");
+  }
+  for (const std::string& u : pl.unused()) warn(d, n + ": parameter \"" + u + "\" ignored");
+}
+
+// Remembers where a render hint came from, so that a value the options refuse (xresolution
+// 100000) is reported at its file:line with the parameter's name.
+void Parser::note_hint(const Token& d, const ParamList& pl, const char* param, const char* option) {
+  for (const pbrt::Param& p : pl.params)
+    if (p.name == param)
+      scene_.hints.where[option] = (p.file ? *p.file : "?") + ":" + std::to_string(p.line) + ": " + d.text +
+                                   " parameter \"" + p.type + " " + p.name + "\"";
+}
+
+void Parser::texture(const Token& d, const std::string& name, const std::string& type, const std::string& cls,
+                     const ParamList& pl) {
+  if (type != "spectrum" && type != "float") d.fail("Texture: type must be \"spectrum\" or \"float\", got '" + type + "'");
+  auto& names = type == "spectrum" ? tex_names_.spectrum : tex_names_.floats;
+  if (names.count(name)) d.fail("texture '" + name + "' redefined");
+  auto res = [&](const std::string& f) {
+    std::string path = resolve(f, d, false);
+    scene_.input_files.push_back(path);
+    return path;
+  };
+  scene_.textures.push_back(pbrt::make_texture(d, name, cls, pl, tex_names_, scene_.textures, res));
+  names[name] = int(scene_.textures.size()) - 1;
+}
+
+}  // namespace pbrt
 
 Scene detail::parse_pbrt(const std::string& path) {
-  Parser p(path);
+  pbrt::Parser p(path);
   return p.run();
 }
 
