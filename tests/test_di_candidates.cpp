@@ -46,7 +46,6 @@ GSurface surface(Vec3 p, Vec3 n, Vec3 wo, const Bsdf& bsdf) {
   s.valid = true;
   s.p = p;
   s.ng = s.ns = normalize(n);
-  s.frame = Frame::from_normal(s.ns);
   s.wo = normalize(wo);
   s.bsdf = bsdf;
   return s;
@@ -78,7 +77,7 @@ TEST_SUITE("restir_di") {
     Pcg32 rng(2024);
     int batched = 0, scalar = 0, lit = 0, compared = 0;
     for (const GSurface& s : receivers) {
-      const Vec3 wo_l = s.frame.to_local(s.wo);
+      const Vec3 wo_l = s.frame().to_local(s.wo);
       for (int round = 0; round < 200; ++round) {
         DiCandidateBatch b;
         b.n = 1 + int(rng.next_float() * kDiCandidateBatch) % kDiCandidateBatch;

@@ -187,8 +187,8 @@ TEST_SUITE("ssr") {
         for (int k = 0; k < 2; ++k) {
           BsdfSample bs;
           const float u_lobe = rng.next_float();
-          if (!bsdf_sample(sf.bsdf, sf.frame.to_local(sf.wo), u_lobe, rng.next_2d(), bs)) continue;
-          const Vec3 d = sf.frame.to_world(bs.wi);
+          if (!bsdf_sample(sf.bsdf, sf.frame().to_local(sf.wo), u_lobe, rng.next_2d(), bs)) continue;
+          const Vec3 d = sf.frame().to_world(bs.wi);
           const Ray ray = spawn_ray(sf.p, sf.ng, d, accel.ray_epsilon());
           Hit truth;
           int tx = -1, ty = -1;

@@ -48,7 +48,7 @@ __global__ void device_compile_check(PathWorld w, BvhView bvh, PerspectiveCamera
   batch.emitter[0] = batch.emitter[1] = e;
   batch.pmf[0] = batch.pmf[1] = pmf;
   batch.ux[0] = batch.uy[1] = 0.25f, batch.uy[0] = batch.ux[1] = 0.75f;
-  acc += float(di_eval_light_candidates(L, g, g.frame.to_local(g.wo), true, batch)) + batch.target[0] + batch.light_pdf[1];
+  acc += float(di_eval_light_candidates(L, g, g.frame().to_local(g.wo), true, batch)) + batch.target[0] + batch.light_pdf[1];
   PathState st;
   st.ray = ray;
   PendingShadow sh;

@@ -84,7 +84,7 @@ RESTIR_HD inline bool view_light(const LightsView& lights, const GSurface& s, co
     }
   }
   if (is_black(v.le)) return false;
-  v.wi_l = s.frame.to_local(v.wi);
+  v.wi_l = s.frame().to_local(v.wi);
   return true;
 }
 
@@ -119,7 +119,7 @@ RESTIR_HD inline Rgb di_unshadowed(const LightsView& lights, const GSurface& s, 
   di_detail::LightView v;
   if (!di_detail::view_light(lights, s, y, v)) return Rgb(0);
   if (shadow_ray) *shadow_ray = di_detail::di_shadow_ray(lights, s, y, v, eps);
-  return di_detail::di_value(s, s.frame.to_local(s.wo), v);
+  return di_detail::di_value(s, s.frame().to_local(s.wo), v);
 }
 
 }  // namespace rl

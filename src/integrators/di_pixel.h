@@ -69,7 +69,7 @@ class DiInitialResampler {
                                bool visibility)
       : w_(w), L_(w.lights), tracer_(tracer), s_(s), eps_(w.ray_epsilon), ml_(float(light_candidates)), mb_(float(bsdf_candidates)),
         // See weight(): without visibility in the target, a light candidate's BSDF density needs its shadow ray.
-        bsdf_visibility_(!visibility && bsdf_candidates > 0), wo_l_(s.frame.to_local(s.wo)) {
+        bsdf_visibility_(!visibility && bsdf_candidates > 0), wo_l_(s.frame().to_local(s.wo)) {
     r_.confidence = float(light_candidates + bsdf_candidates);
   }
   RESTIR_HD void light_candidates(int count, Pcg32& rng, const DiTileView& tile);
@@ -137,7 +137,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, fl
     if (!(en.pdf > 0)) return;
     const LightPoint y{en.direction, e};
     LightView v;
-    v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s_.frame.to_local(v.wi);
+    v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s_.frame().to_local(v.wi);
     const float t = is_black(v.le) ? 0.0f : luminance(di_detail::di_value(s_, wo_l_, v));
     restir::stream(r_, y, t, weight(y, v, t, en.pdf * pmf, true), u_stream);  // the map's density x the pmf
     return;
@@ -226,7 +226,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::bsdf_candidates(int count, Pcg32& rng
     const Vec2 u = rng.next_2d();
     const float u_stream = rng.next_float();
     if (!bsdf_sample(s_.bsdf, wo_l_, u_lobe, u, bs) || bs.is_delta || !(bs.pdf > 0)) continue;
-    const LightPoint y = di_trace_to_light(w_, tracer_, s_, s_.frame.to_world(bs.wi));
+    const LightPoint y = di_trace_to_light(w_, tracer_, s_, s_.frame().to_world(bs.wi));
     if (y.emitter == kNoEmitter) continue;
     di_detail::LightView v;
     const float t = di_detail::view_light(L_, s_, y, v) ? luminance(di_detail::di_value(s_, wo_l_, v)) : 0.0f;
@@ -255,12 +255,12 @@ RESTIR_HD inline DiReservoir di_initial_reservoir_in(const PathWorld& w, const T
 template <class Tracer>
 RESTIR_HD inline Rgb di_specular_in(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   BsdfSample bs;
-  const Vec3 wo_l = s.frame.to_local(s.wo);
+  const Vec3 wo_l = s.frame().to_local(s.wo);
   const float u_lobe = rng.next_float();
   const Vec2 u = rng.next_2d();
   if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0)) return Rgb(0);
   const Rgb beta = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
-  const Vec3 wi = s.frame.to_world(bs.wi);
+  const Vec3 wi = s.frame().to_world(bs.wi);
   Hit hit;
   if (!tracer.intersect(spawn_ray(s.p, s.ng, wi, w.ray_epsilon), hit)) return beta * w.lights.environment_radiance(wi);
   const SurfaceInteraction si = surface_interaction(w.scene, Ray{s.p, wi}, hit);
@@ -302,7 +302,7 @@ struct DiViewBridge {
 template <class Tracer>
 RESTIR_HD inline Rgb di_shade(const PathWorld& w, const Tracer& tracer, const GSurface& sf, const DiReservoir& r, bool visibility_reuse,
                               uint32_t pixel, uint32_t frame, uint64_t seed, uint32_t chain) {
-  Rgb L = sf.valid ? sf.emitted : sf.background;
+  Rgb L = sf.le;
   if (!sf.valid) return L;
   if (bsdf_is_delta(sf.bsdf)) {
     Pcg32 rng = make_rng(pixel, frame, RngPass::misc, seed, chain);

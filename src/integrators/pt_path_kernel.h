@@ -43,7 +43,7 @@ struct Vertex {
 };
 
 RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
-  return {s.p, s.ng, s.frame, s.wo, s.bsdf, bsdf_is_delta(s.bsdf)};
+  return {s.p, s.ng, s.frame(), s.wo, s.bsdf, bsdf_is_delta(s.bsdf)};
 }
 
 RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInteraction& si, Vec3 wo) {
@@ -548,7 +548,7 @@ struct PtViewBridge {
 // A pixel's radiance: the emission its primary hit sees (unless ReSTIR DI adds it, pt.direct =
 // restir-di) + f(Y) W_Y of its reservoir's path, W_Y its unbiased contribution weight (Lin et al. 2022).
 RESTIR_HD inline Rgb pt_shade(const GSurface& sf, const PathReservoir& r, bool direct_from_di) {
-  Rgb L = direct_from_di ? Rgb(0) : (sf.valid ? sf.emitted : sf.background);
+  Rgb L = direct_from_di ? Rgb(0) : sf.le;
   if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
   mark_non_finite(r, L);
   return L;
