@@ -6,6 +6,8 @@ frames 0-49 and off for 50-99 of every 100) for docs/results/m-cap-long/RESULTS.
     (t distribution over the seeds' means);
   - the trend over periods 2.. (least-squares slope of the settled on-phase relMSE per period,
     per seed, then mean ± 95% half-width over the seeds): does the error keep growing?
+  - the paired differences between caps in the settled phases of periods 2.. (per seed, the same
+    seed's random numbers for every cap; mean ± 95% half-width over the seeds, and the ratio).
     scripts/mcap_long.py OUT/results.csv [--compact FILE]
 --compact writes cap,seed,frame,relmse,convergence (the columns the table reads) to FILE."""
 import csv
@@ -54,6 +56,23 @@ def main(path, compact=None):
         cells = [cells[0], cells[1], cells[2], cells[3]]
         trend = ci([slope([phase(s, p, ON) for p in range(2, periods)]) for s in seeds])
         print("| %s | %s | %+.4f ± %.4f |" % ("none" if cap == 0 else cap, " | ".join(cells), trend[0], trend[1]))
+    paired(err, caps, periods)
+
+
+def paired(err, caps, periods):
+    def settled(cap, s, frames):
+        return st.mean(st.mean(err[(cap, s)][p * PERIOD + f] for f in frames) for p in range(2, periods))
+    name = lambda c: "none" if c == 0 else str(c)  # noqa: E731
+    print("\n| difference (periods 2-%d) | light on | ratio | light off | ratio |\n|---|---|---|---|---|" % (periods - 1))
+    pairs = [(a, b) for i, a in enumerate(caps) for b in caps[i + 1:]]
+    for a, b in pairs:
+        seeds = sorted(s for c, s in err if c == a and (b, s) in err)
+        cells = []
+        for frames in (ON, OFF):
+            d = ci([settled(a, s, frames) - settled(b, s, frames) for s in seeds])
+            ratio = st.mean(settled(a, s, frames) for s in seeds) / st.mean(settled(b, s, frames) for s in seeds)
+            cells += ["%+.4f ± %.4f" % d, "×%.3f" % ratio]
+        print("| %s − %s | %s |" % (name(a), name(b), " | ".join(cells)))
 
 
 if __name__ == "__main__":
