@@ -4,7 +4,8 @@
 // CUDA backend's own SAH BVH), the light tables, and ms/frame of pt (1 spp) and restir-di
 // (defaults, median of the frames after the first) at 640x360 -- and of pt on the CUDA backend
 // where a GPU is present. Prints a Markdown table; then, on many-lights, frame time against pixels
-// (320x180 .. 1280x720) and against threads (1, 2), and the bytes of ReSTIR state per pixel.
+// (320x180 .. 1280x720; restir-di also with its spatial radius scaled to the width) and against
+// threads (1, 2), and the bytes of ReSTIR state per pixel.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -33,33 +34,72 @@ double frame_ms(const Scene& scene, Options o, const char* integrator, int frame
   o.render.backend = backend;
   return bench::median(render(scene, o).frame_ms, frames > 1 ? 1 : 0);
 }
-// Frame time against pixels and threads (restir-di and pt, `frames` frames, median after the
-// first), and ms per megapixel: linear scaling keeps that column flat.
-void pixel_and_thread_scaling(const Scene& scene, int frames) {
+// One row of the pixel/thread table: an integrator, and what it changes with the image width.
+struct ScalingRow {
+  const char* name;
+  const char* integrator;
+  bool radius_with_width = false;  // di.spatial_radius = 30 px x width / 1280 (the same neighbourhood at every size)
+  Options at(const Options& base, int w, int h, int threads = 0) const {
+    Options o = base;
+    o.film.width = w, o.film.height = h, o.render.threads = threads;
+    if (radius_with_width) o.di.reuse.spatial_radius = 30.0f * float(w) / 1280.0f;
+    return o;
+  }
+};
+
+// The mean fraction of reuse candidates rejected (render.debug_view = rejected-shifts) in the last
+// of `frames` frames: how much reuse work a pixel does depends on it.
+double rejected_fraction(const Scene& scene, Options o, const char* integrator, int frames) {
+  o.integrator = integrator;
+  o.render.frames = frames;
+  o.render.debug_view = DebugView::rejected_shifts;
+  const Image img = render(scene, o).last;
+  double sum = 0;
+  for (const Rgb& c : img.pixels) sum += c.x;
+  return sum / double(img.size());
+}
+
+// Frame time against pixels and threads (`frames` frames, median after the first), and ms per
+// megapixel: linear scaling keeps that column flat. The sizes and thread counts are measured in
+// `rounds` interleaved rounds and each cell is the median over the rounds, so that a slow spell of
+// a shared machine lands in one round of every size, not in one size. restir-di's spatial radius
+// is in pixels: at a fixed radius a larger image has more similar neighbours within it, fewer
+// rejected, so more reuse work per pixel -- the rejected fractions show it, and the row with the
+// radius scaled to the width keeps the neighbourhood (and the work per pixel) the same.
+void pixel_and_thread_scaling(const Scene& scene, int frames, int rounds) {
   Options base;
   apply_scene_hints(base, scene.hints);
   base.render.spp = 1;
   const std::vector<std::pair<int, int>> sizes = {{320, 180}, {640, 360}, {1280, 720}};
-  fmt::print("\n| integrator | 320x180 ms | 640x360 ms | 1280x720 ms | ms per Mpixel (each) | 640x360, 1 thread ms | 2 threads ms | "
-             "speed-up |\n|---|---|---|---|---|---|---|---|\n");
-  for (const char* integrator : {"pt", "restir-di"}) {
-    std::vector<double> ms;
-    std::string per_mpixel;
-    for (auto [w, h] : sizes) {
-      Options o = base;
-      o.film.width = w, o.film.height = h;
-      ms.push_back(frame_ms(scene, o, integrator, frames));
-      per_mpixel += fmt::format("{}{:.0f}", per_mpixel.empty() ? "" : " / ", ms.back() / (double(w) * h * 1e-6));
+  fmt::print("\n| integrator | 320x180 ms | 640x360 ms | 1280x720 ms | ms per Mpixel (each) | largest / smallest per Mpixel | "
+             "reuse candidates rejected (each) | 640x360, 1 thread ms | 2 threads ms | speed-up |\n"
+             "|---|---|---|---|---|---|---|---|---|---|\n");
+  const ScalingRow rows[] = {{"pt", "pt"}, {"restir-di", "restir-di"}, {"restir-di, radius 30 px x width / 1280", "restir-di", true}};
+  for (const ScalingRow& row : rows) {
+    std::vector<std::vector<double>> ms(sizes.size() + 2);  // the sizes, then 1 and 2 threads at 640x360
+    for (int r = 0; r < rounds; ++r) {
+      for (size_t i = 0; i < sizes.size(); ++i)
+        ms[i].push_back(frame_ms(scene, row.at(base, sizes[i].first, sizes[i].second), row.integrator, frames));
+      for (int threads : {1, 2})
+        ms[sizes.size() + size_t(threads - 1)].push_back(frame_ms(scene, row.at(base, 640, 360, threads), row.integrator, frames));
     }
-    Options o = base;
-    o.film.width = 640, o.film.height = 360;
-    o.render.threads = 1;
-    const double one = frame_ms(scene, o, integrator, frames);
-    o.render.threads = 2;
-    const double two = frame_ms(scene, o, integrator, frames);
-    fmt::print("| {} | {:.0f} | {:.0f} | {:.0f} | {} | {:.0f} | {:.0f} | {:.2f}x |\n", integrator, ms[0], ms[1], ms[2], per_mpixel,
-               one, two, one / two);
+    std::vector<double> med, per_mpixel;
+    for (const auto& v : ms) med.push_back(bench::median(v));
+    std::string per, rejected = "-";
+    for (size_t i = 0; i < sizes.size(); ++i) {
+      per_mpixel.push_back(med[i] / (double(sizes[i].first) * sizes[i].second * 1e-6));
+      per += fmt::format("{}{:.0f}", per.empty() ? "" : " / ", per_mpixel.back());
+    }
+    if (std::string(row.integrator) != "pt") {
+      rejected.clear();
+      for (auto [w, h] : sizes)
+        rejected += fmt::format("{}{:.0f}%", rejected.empty() ? "" : " / ", 100 * rejected_fraction(scene, row.at(base, w, h), row.integrator, 3));
+    }
+    const double one = med[sizes.size()], two = med[sizes.size() + 1];
+    fmt::print("| {} | {:.0f} | {:.0f} | {:.0f} | {} | {:.3f} | {} | {:.0f} | {:.0f} | {:.2f}x |\n", row.name, med[0], med[1], med[2], per,
+               per_mpixel.back() / per_mpixel.front(), rejected, one, two, one / two);
   }
+  fmt::print("(median over {} interleaved rounds)\n", rounds);
   // What a ReSTIR frame keeps per pixel (and spp chain): this frame's and last frame's reservoirs
   // plus the pass's output buffer, this frame's and last frame's G-buffer surfaces, and the debug
   // counters (source, tried, rejected).
@@ -73,7 +113,7 @@ void pixel_and_thread_scaling(const Scene& scene, int frames) {
 
 int main(int argc, char** argv) {
   CLI::App app{"scaling with scene size: builds and frame times"};
-  int width = 640, height = 360, frames = 3;
+  int width = 640, height = 360, frames = 4, rounds = 3;
   std::vector<std::string> scenes = {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt",
                                      std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt",
                                      std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt",
@@ -82,6 +122,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", height);
   app.add_option("--frames", frames, "frames per integrator (the median after the first is reported)");
   app.add_option("--scene", scenes, "scenes to measure");
+  app.add_option("--rounds", rounds, "interleaved rounds of the pixel and thread scaling (the median is reported)")->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
   const bool gpu = cuda_unavailable_reason().empty();
   fmt::print("| scene | triangles | spheres | emitters | load ms | Embree BVH ms | own BVH ms (nodes) | lights ms | pt ms | restir-di ms |{}\n",
@@ -111,6 +152,6 @@ int main(int argc, char** argv) {
     fmt::print("\n");
   }
   fmt::print("({}x{}, 1 spp; {})\n", width, height, gpu ? cuda_device_description() : "no GPU: " + cuda_unavailable_reason());
-  pixel_and_thread_scaling(load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"), frames);
+  pixel_and_thread_scaling(load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"), frames, rounds);
   return 0;
 }
