@@ -138,14 +138,14 @@ RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __
                                    bool bsdf_pdfs, DiCandidateBatch& __restrict__ b) {
   float wl_x[kDiCandidateBatch], wl_y[kDiCandidateBatch], wl_z[kDiCandidateBatch], g[kDiCandidateBatch];
   int32_t ok[kDiCandidateBatch];  // 0 or 1 (32-bit like the floats: the loops vectorize)
-  const Frame frame = s.frame();
+  const Frame shading = s.frame();
   for (int k = 0; k < l.n; ++k) {  // view_light
     const Vec3 q{o.qx[k], o.qy[k], o.qz[k]}, n{o.nx[k], o.ny[k], o.nz[k]};
     const Vec3 d = q - s.p;
     const float d2 = length_squared(d);
     const Vec3 wi = d / std::sqrt(d2);
     const bool lit = !(l.one_sided[k] > 0) | (dot(n, -wi) > 0);  // emitted(e, n, -wi)
-    const Vec3 wl = frame.to_local(wi);
+    const Vec3 wl = shading.to_local(wi);
     wl_x[k] = wl.x, wl_y[k] = wl.y, wl_z[k] = wl.z;
     g[k] = std::fabs(dot(n, wi)) / d2;
     ok[k] = o.ok[k] & (d2 > 0) & lit;

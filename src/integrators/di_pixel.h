@@ -69,7 +69,7 @@ class DiInitialResampler {
                                bool visibility)
       : w_(w), L_(w.lights), tracer_(tracer), s_(s), eps_(w.ray_epsilon), ml_(float(light_candidates)), mb_(float(bsdf_candidates)),
         // See weight(): without visibility in the target, a light candidate's BSDF density needs its shadow ray.
-        bsdf_visibility_(!visibility && bsdf_candidates > 0), wo_l_(s.frame().to_local(s.wo)) {
+        bsdf_visibility_(!visibility && bsdf_candidates > 0), frame_(s.frame()), wo_l_(frame_.to_local(s.wo)) {
     r_.confidence = float(light_candidates + bsdf_candidates);
   }
   RESTIR_HD void light_candidates(int count, Pcg32& rng, const DiTileView& tile);
@@ -122,6 +122,7 @@ class DiInitialResampler {
   const GSurface& s_;
   const float eps_, ml_, mb_;
   const bool bsdf_visibility_;
+  const Frame frame_;  // s_.frame(), built once for all the pixel's candidates
   const Vec3 wo_l_;
   DiReservoir r_;
 };
@@ -137,7 +138,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, fl
     if (!(en.pdf > 0)) return;
     const LightPoint y{en.direction, e};
     LightView v;
-    v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = s_.frame().to_local(v.wi);
+    v.wi = en.direction, v.le = en.radiance, v.g = 1, v.wi_l = frame_.to_local(v.wi);
     const float t = is_black(v.le) ? 0.0f : luminance(di_detail::di_value(s_, wo_l_, v));
     restir::stream(r_, y, t, weight(y, v, t, en.pdf * pmf, true), u_stream);  // the map's density x the pmf
     return;
@@ -226,7 +227,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::bsdf_candidates(int count, Pcg32& rng
     const Vec2 u = rng.next_2d();
     const float u_stream = rng.next_float();
     if (!bsdf_sample(s_.bsdf, wo_l_, u_lobe, u, bs) || bs.is_delta || !(bs.pdf > 0)) continue;
-    const LightPoint y = di_trace_to_light(w_, tracer_, s_, s_.frame().to_world(bs.wi));
+    const LightPoint y = di_trace_to_light(w_, tracer_, s_, frame_.to_world(bs.wi));
     if (y.emitter == kNoEmitter) continue;
     di_detail::LightView v;
     const float t = di_detail::view_light(L_, s_, y, v) ? luminance(di_detail::di_value(s_, wo_l_, v)) : 0.0f;
@@ -255,12 +256,13 @@ RESTIR_HD inline DiReservoir di_initial_reservoir_in(const PathWorld& w, const T
 template <class Tracer>
 RESTIR_HD inline Rgb di_specular_in(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   BsdfSample bs;
-  const Vec3 wo_l = s.frame().to_local(s.wo);
+  const Frame shading = s.frame();
+  const Vec3 wo_l = shading.to_local(s.wo);
   const float u_lobe = rng.next_float();
   const Vec2 u = rng.next_2d();
   if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0)) return Rgb(0);
   const Rgb beta = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
-  const Vec3 wi = s.frame().to_world(bs.wi);
+  const Vec3 wi = shading.to_world(bs.wi);
   Hit hit;
   if (!tracer.intersect(spawn_ray(s.p, s.ng, wi, w.ray_epsilon), hit)) return beta * w.lights.environment_radiance(wi);
   const SurfaceInteraction si = surface_interaction(w.scene, Ray{s.p, wi}, hit);

@@ -31,7 +31,8 @@ RESTIR_HD inline Rgb gi_integrand(const GSurface& s, const GiSample& x) {
     if (!(len > 0)) return Rgb(0);
     wi = d / len;
   }
-  const Vec3 wo_l = s.frame().to_local(s.wo), wi_l = s.frame().to_local(wi);
+  const Frame shading = s.frame();
+  const Vec3 wo_l = shading.to_local(s.wo), wi_l = shading.to_local(wi);
   const Rgb v = bsdf_eval(s.bsdf, wo_l, wi_l) * std::fabs(wi_l.z) * x.radiance;
   return is_finite(v) ? max(v, Rgb(0)) : v;  // non-finite: reported by the render driver, never hidden
 }
@@ -87,8 +88,10 @@ RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, co
   BsdfSample bs;
   const float u_lobe = rng.next_float();
   const Vec2 u = rng.next_2d();
-  if (!bsdf_sample(s.bsdf, s.frame().to_local(s.wo), u_lobe, u, bs) || !(bs.pdf > 0) || is_black(bs.f)) return r;
-  const Vec3 wi = s.frame().to_world(bs.wi);
+  const Frame shading = s.frame();
+  const Vec3 wo_l = shading.to_local(s.wo);
+  if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0) || is_black(bs.f)) return r;
+  const Vec3 wi = shading.to_world(bs.wi);
   const Ray ray = spawn_ray(s.p, s.ng, wi, w.ray_epsilon);
   if (bs.is_delta) {  // no NEE and no reconnection through a delta lobe: a plain path estimate
     specular = bs.f * std::fabs(bs.wi.z) / bs.pdf * path_radiance_in(w, tracer, path, ray, rng);
@@ -109,7 +112,7 @@ RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, co
     // sees it), so its density is taken there too: the traced ray left from an offset origin, and
     // near contact (x_s within a few epsilons) the two directions differ enough to bias f/p.
     const Vec3 wi_pos = normalize(si.p - s.p);
-    pdf = bsdf_pdf(s.bsdf, s.frame().to_local(s.wo), s.frame().to_local(wi_pos));
+    pdf = bsdf_pdf(s.bsdf, wo_l, shading.to_local(wi_pos));
   } else {
     x.infinite = true;
     x.position = wi;
@@ -129,8 +132,9 @@ RESTIR_HD Rgb gi_direct_in(const PathWorld& w, const Tracer& tracer, const GSurf
   const float u_select = rng.next_float();
   const Vec2 u = rng.next_2d();
   if (!w.lights.sample(s.p, u_select, u, ls) || !(ls.pdf > 0)) return Rgb(0);
-  const Vec3 wi_l = s.frame().to_local(ls.wi);
-  const Rgb f = bsdf_eval(s.bsdf, s.frame().to_local(s.wo), wi_l) * std::fabs(wi_l.z);
+  const Frame shading = s.frame();
+  const Vec3 wi_l = shading.to_local(ls.wi);
+  const Rgb f = bsdf_eval(s.bsdf, shading.to_local(s.wo), wi_l) * std::fabs(wi_l.z);
   if (is_black(f)) return Rgb(0);
   return tracer.occluded(shadow_ray_to_light(s.p, s.ng, ls, w.ray_epsilon)) ? Rgb(0) : f * ls.radiance / ls.pdf;
 }

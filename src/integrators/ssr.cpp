@@ -132,11 +132,12 @@ class Ssr final : public Integrator {
     BsdfSample bs;
     const float u_lobe = rng.next_float();
     const Vec2 u = rng.next_2d();
-    if (!bsdf_sample(sf.bsdf, sf.frame().to_local(sf.wo), u_lobe, u, bs) || !(bs.pdf > 0)) return r;
+    const Frame shading = sf.frame();
+    if (!bsdf_sample(sf.bsdf, shading.to_local(sf.wo), u_lobe, u, bs) || !(bs.pdf > 0)) return r;
     r.valid = true;
     r.weight = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
     r.pdf = bs.is_delta ? 0.0f : bs.pdf;
-    r.dir = sf.frame().to_world(bs.wi);
+    r.dir = shading.to_world(bs.wi);
     // A transmitted direction sees nothing the screen shows (glass): the fallback.
     if (dot(r.dir, sf.ng) * dot(sf.wo, sf.ng) >= 0) {
       const Ray ray = spawn_ray(sf.p, sf.ng, r.dir, ctx_.accel.ray_epsilon());
@@ -179,13 +180,14 @@ class Ssr final : public Integrator {
     own /= float(rays);
     albedo /= float(rays);
     if (so.resolve_neighbors == 0 || bsdf_is_delta(sf.bsdf)) return own;
-    const Vec3 wo = sf.frame().to_local(sf.wo);
+    const Frame shading = sf.frame();
+    const Vec3 wo = shading.to_local(sf.wo);
     Rgb num(0);
     float den = 0;
     auto reuse = [&](const ReflectionRay& r) {  // weight: this pixel's BRDF x cos over r's pdf
       if (!r.valid || !(r.pdf > 0)) return;
       const Vec3 d = r.hit ? normalize(r.hit_p - sf.p) : r.dir;
-      const Vec3 wi = sf.frame().to_local(d);
+      const Vec3 wi = shading.to_local(d);
       const float wgt = luminance(bsdf_eval(sf.bsdf, wo, wi)) * std::fabs(wi.z) / r.pdf;
       if (!(wgt > 0) || !std::isfinite(wgt)) return;
       num += r.radiance * wgt;
