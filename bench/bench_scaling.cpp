@@ -93,7 +93,7 @@ void pixel_and_thread_scaling(const Scene& scene, int frames, int rounds) {
     if (std::string(row.integrator) != "pt") {
       rejected.clear();
       for (auto [w, h] : sizes)
-        rejected += fmt::format("{}{:.0f}%", rejected.empty() ? "" : " / ", 100 * rejected_fraction(scene, row.at(base, w, h), row.integrator, 3));
+        rejected += fmt::format("{}{:.0f}%", rejected.empty() ? "" : " / ", 100 * rejected_fraction(scene, row.at(base, w, h), row.integrator, frames));
     }
     const double one = med[sizes.size()], two = med[sizes.size() + 1];
     fmt::print("| {} | {:.0f} | {:.0f} | {:.0f} | {} | {:.3f} | {} | {:.0f} | {:.0f} | {:.2f}x |\n", row.name, med[0], med[1], med[2], per,
