@@ -5,6 +5,7 @@
 #include "convergence.h"
 #include "pt_fixture.h"
 #include "image/metrics.h"
+#include "integrators/path_tracer.h"
 #include "integrators/pt_path.h"
 #include "restir/shift.h"
 #include "scene/accel.h"
@@ -132,6 +133,54 @@ TEST_SUITE("restir_pt") {
     auto with_di = depths("hybrid");
     CHECK(with_di[2] + with_di[3] > 0);
     CHECK(with_di[1] == 0);
+  }
+
+  TEST_CASE("a reconnection to the environment keeps the base path's radiance and density only while the lights are fixed") {
+    Fixture fx(own_scene("teapot.pbrt"));  // an environment map and an area light
+    REQUIRE(fx.lights->view().fixed);
+    // The same scene with the map twice as bright: where the lights may change (an animated
+    // environment), the shift must look the radiance up in its own frame's lights. Uniform light
+    // selection keeps the environment's selection probability, and so its density, the same.
+    Scene brighter = fx.scene;
+    brighter.environment->radiance = brighter.environment->radiance * 2.0f;
+    const Lights lights1(fx.scene, LightSelection::uniform), lights2(brighter, LightSelection::uniform);
+    PathWorld world1 = path_world(*fx.ctx), world2 = world1;
+    world1.lights = lights1.view();
+    world2.lights = lights2.view();
+    REQUIRE(world2.lights.fixed);
+    // Paths x_1 -> x_2 on the environment, reconnected at k = n = 2.
+    PathSettings ps;
+    ps.shift = ShiftMapping::reconnection;
+    ps.max_depth = 1;
+    const uint32_t env = lights1.environment_emitter();
+    Pcg32 rng(7);
+    int checked = 0;
+    for (int it = 0; it < 4000 && checked < 100; ++it) {
+      const GSurface& a = fx.random_surface(rng);
+      const GSurface& b = fx.random_surface(rng);
+      if (!a.valid || !b.valid) continue;
+      const PathReservoir r = initial_path_reservoir(world1, *fx.accel, ps, a, rng.next_u32(), 1);
+      if (!r.has_sample() || r.sample.rc != 2 || r.sample.length != 2 || r.sample.rc_emitter != env) continue;
+      PathSample here, kept, looked_up;
+      float j = 0, j_kept = 0, j_looked = 0;
+      if (!shift_path(world1, *fx.accel, ps, r.sample, b, here, j)) continue;
+      // Fixed lights: the kept values, i.e. the base lights' (the caller's promise that they hold).
+      REQUIRE(shift_path(world2, *fx.accel, ps, r.sample, b, kept, j_kept));
+      CHECK(kept.contribution == here.contribution);
+      // Lights that may change: the lookup, twice the radiance, the same density and MIS weight.
+      world2.lights.fixed = false;
+      REQUIRE(shift_path(world2, *fx.accel, ps, r.sample, b, looked_up, j_looked));
+      world2.lights.fixed = true;
+      CHECK(close_rgb(looked_up.contribution, here.contribution * 2.0f, 1e-5f));
+      CHECK(j_looked == j);
+      ++checked;
+    }
+    CHECK(checked >= 50);
+    // The flag follows the scene: an animated environment makes the lights not fixed.
+    Scene animated = fx.scene;
+    animated.animations.emplace_back();
+    animated.environment->animation = 0;
+    CHECK_FALSE(Lights(animated, LightSelection::power).view().fixed);
   }
 }
 

@@ -42,9 +42,10 @@ struct PathSample {
   Bsdf rc_bsdf;            // BSDF at x_k (k < n)
   Frame rc_frame;          // shading frame at x_k (k < n)
   Vec3 rc_out;             // ω_k, leaving x_k toward x_{k+1} (k < n)
-  Rgb rc_suffix{0};        // Π_{i>k} f_s|cos| × Le G: everything after x_k's own BSDF term (k < n)
+  Rgb rc_suffix{0};        // everything after x_k's own BSDF term: Π_{i>k} f_s|cos| × Le G (k < n);
+                           // Le G of the last segment as the walk found it (k = n)
   float rc_mis = 1;        // m_t of the tail when x_{n-1} is after x_k (k < n - 1)
-  float rc_tail_light_pdf = 0;  // k = n - 1: the emitter's NEE density, to recompute m_t after a shift
+  float rc_tail_light_pdf = 0;  // k >= n - 1: the emitter's NEE density at x_n, to recompute m_t after a shift
   float rc_tail_measure = 0;    // k = n - 1: factor turning a solid-angle pdf at x_k into the emitter's measure
   Vec3 rc_previous;        // x_{k-1}, for the jacobian
   float replay_pdf = 1;    // pdf of the replayed part: directions before x_{k-1} (k > 0), or the

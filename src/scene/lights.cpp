@@ -2,6 +2,8 @@
 // Uniform/ImageInfiniteLight; PBR4 ch. 6 and 12). The per-sample code: scene/lights_view_inl.h.
 #include "scene/lights.h"
 
+#include "scene/animation.h"
+
 namespace rl {
 
 namespace {
@@ -130,6 +132,7 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
   std::vector<float> weights(t_.emitters.size());
   for (size_t i = 0; i < t_.emitters.size(); ++i) weights[i] = selection == LightSelection::power ? t_.emitters[i].power : 1.0f;
   t_.selection = AliasTable(weights);
+  t_.fixed = !lights_animated(scene);
   repoint();
 }
 
@@ -143,6 +146,7 @@ void Lights::repoint() {
   v.sphere_index = t_.sphere_index.data();
   v.num_spheres = uint32_t(t_.sphere_index.size());
   v.env_emitter = t_.env_emitter;
+  v.fixed = t_.fixed;
   v.env_mapping = t_.env_mapping;
   v.env_scale = t_.env_scale;
   v.env_texels = t_.env_texels.data();

@@ -104,6 +104,7 @@ class Lights {
     std::vector<uint32_t> mesh_first;     // per mesh: first emitter index or kNoEmitter
     std::vector<uint32_t> sphere_index;   // per sphere: emitter index or kNoEmitter
     uint32_t env_emitter = kNoEmitter;
+    bool fixed = true;  // LightsView::fixed
 
     // Environment
     EnvironmentLight::Mapping env_mapping = EnvironmentLight::Mapping::constant;

@@ -166,6 +166,10 @@ struct LightsView {
   const uint32_t* sphere_index = nullptr;   // per sphere: emitter index or kNoEmitter
   uint32_t num_spheres = 0;
   uint32_t env_emitter = kNoEmitter;
+  // No emitter moves or changes over the sequence (animation.h's lights_animated is false). Then
+  // what a sample keeps of the lights (ReSTIR PT's environment radiance and density at x_n, see
+  // pt_path.h) holds in every frame, not only in the one that made the sample.
+  bool fixed = true;
 
   // Environment
   EnvironmentLight::Mapping env_mapping = EnvironmentLight::Mapping::constant;
