@@ -231,11 +231,13 @@ RESTIR_HD inline bool LightsView::sample_environment(Vec2 u, LightSample& out) c
   } else {
     // Row, then column, then uniform in the texel's (u, v) cell (the tables' remapped u's):
     // pdf_uv = pmf_row * pmf_col * W * H.
-    float pmf_y, pmf_x, fy, fx;
+    float pmf_y, fy, fx = 0;
     const uint32_t y = env_rows.sample(u.x, &pmf_y, &fy);
-    if (!(pmf_y > 0)) return false;
-    const uint32_t x = env_cols(y).sample(u.y, &pmf_x, &fx);
-    if (!(pmf_x > 0)) return false;
+    if (!(pmf_y > 0)) return false;  // also: row y has a column table
+    // The column's pmf is not read: an alias table never picks a zero-weight bin, and the texel's
+    // own density (pdf_uv, looked up below) is 0 for one anyway. The read was a cache miss of its
+    // own in a 2 MB table for a 1024x512 map.
+    const uint32_t x = env_cols(y).sample(u.y, nullptr, &fx);
     const int w = env_width, h = env_height;
 #ifndef __CUDA_ARCH__
     // The lookup at the end reads texel (x, y) (a neighbour only when rounding moves the direction
