@@ -36,7 +36,7 @@ struct CandidateStage {
   PathReservoir* out;
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * g.width + x);
-    const uint64_t path_seed = hash_combine(hash_combine(hash_combine(f.seed, p), f.frame), f.chain);
+    const uint64_t path_seed = initial_paths_seed(f.seed, p, f.frame, f.chain);
     out[p] = initial_path_reservoir_in(w, tracer, ps, g.at(x, y), path_seed, candidates);
   }
 };

@@ -376,6 +376,12 @@ RESTIR_HD inline PathSample describe_offered(const PathSettings& ps, const Walk&
 
 }  // namespace pt_detail
 
+// The seed of pixel p's initial paths in a frame's chain (spp sample): the CPU's stage and the
+// device's stage alike.
+RESTIR_HD inline uint64_t initial_paths_seed(uint64_t seed, uint32_t p, uint32_t frame, uint32_t chain) {
+  return hash_combine(hash_combine(hash_combine(seed, p), frame), chain);
+}
+
 template <class Tracer>
 RESTIR_HD PathReservoir initial_path_reservoir_in(const PathWorld& world, const Tracer& tracer, const PathSettings& ps,
                                                   const GSurface& s, uint64_t seed, int candidates) {

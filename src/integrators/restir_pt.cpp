@@ -108,7 +108,7 @@ class RestirPt final : public Integrator {
       StageTimer timer(frame.stages, "candidates");
       parallel_for_pixels(w, h, [&](int x, int y) {
         const uint32_t p = uint32_t(y * w + x);
-        const uint64_t path_seed = hash_combine(hash_combine(hash_combine(seed, p), f), chain);
+        const uint64_t path_seed = initial_paths_seed(seed, p, f, chain);
         c.reservoirs[p] = initial_path_reservoir(world, ctx_.accel, settings_, g.at(x, y), path_seed, o.pt.candidates);
       }, frame.progress);
     }
