@@ -7,7 +7,9 @@ frames 0-49 and off for 50-99 of every 100) for docs/results/m-cap-long/RESULTS.
   - the trend over periods 2.. (least-squares slope of the settled on-phase relMSE per period,
     per seed, then mean ± 95% half-width over the seeds): does the error keep growing?
   - the paired differences between caps in the settled phases of periods 2.. (per seed, the same
-    seed's random numbers for every cap; mean ± 95% half-width over the seeds, and the ratio).
+    seed's random numbers for every cap; mean ± 95% half-width over the seeds, and the ratio);
+  - whether the uncapped penalty grows: none − the smallest cap per period, the slope of that
+    difference per seed, and its change from the first half of the run to the second.
     scripts/mcap_long.py OUT/results.csv [--compact FILE]
 --compact writes cap,seed,frame,relmse,convergence (the columns the table reads) to FILE."""
 import csv
@@ -32,7 +34,8 @@ def main(path, compact=None):
     err = defaultdict(dict)  # (cap, seed) -> frame -> relmse
     rows = list(csv.DictReader(open(path)))
     for r in rows:
-        err[(int(float(r["di.max_history"])), r["seed"])][int(r["frame"])] = float(r["relmse"])
+        cap = r["di.max_history"] if "di.max_history" in r else r["cap"]  # results.csv or a --compact file
+        err[(int(float(cap)), r["seed"])][int(r["frame"])] = float(r["relmse"])
     if compact:
         with open(compact, "w") as f:
             f.write("cap,seed,frame,relmse,convergence\n")
@@ -57,6 +60,7 @@ def main(path, compact=None):
         trend = ci([slope([phase(s, p, ON) for p in range(2, periods)]) for s in seeds])
         print("| %s | %s | %+.4f ± %.4f |" % ("none" if cap == 0 else cap, " | ".join(cells), trend[0], trend[1]))
     paired(err, caps, periods)
+    penalty_trend(err, caps, periods)
 
 
 def paired(err, caps, periods):
@@ -73,6 +77,38 @@ def paired(err, caps, periods):
             ratio = st.mean(settled(a, s, frames) for s in seeds) / st.mean(settled(b, s, frames) for s in seeds)
             cells += ["%+.4f ± %.4f" % d, "×%.3f" % ratio]
         print("| %s − %s | %s |" % (name(a), name(b), " | ".join(cells)))
+
+
+def penalty_trend(err, caps, periods):
+    """Does the uncapped penalty grow? Per period, none − the smallest cap (paired per seed); then
+    the least-squares slope of that difference over periods 2.. per seed (mean ± 95%, and how many
+    seeds have a positive slope). A growing error shows as a positive, resolved slope."""
+    if 0 not in caps or len(caps) < 2:
+        return
+    best = caps[1]
+    seeds = sorted(s for c, s in err if c == 0 and (best, s) in err)
+
+    def diff(s, p, frames):
+        return st.mean(err[(0, s)][p * PERIOD + f] - err[(best, s)][p * PERIOD + f] for f in frames)
+    print("\n| period | none − %d, light on | none − %d, light off |\n|---|---|---|" % (best, best))
+    for p in range(periods):
+        print("| %d | %s |" % (p, " | ".join("%+.4f ± %.4f" % ci([diff(s, p, fr) for s in seeds]) for fr in (ON, OFF))))
+    for name, frames in (("on", ON), ("off", OFF)):
+        slopes = [slope([diff(s, p, frames) for p in range(2, periods)]) for s in seeds]
+        print("slope of none − %d per period, light %s, periods 2-%d: %+.5f ± %.5f (%d of %d seeds positive)"
+              % ((best, name, periods - 1) + ci(slopes) + (sum(x > 0 for x in slopes), len(slopes))))
+        # First half of the run against the second: the change of the paired penalty per seed, and
+        # the ratio none / best of the mean levels in each half.
+        halves = (range(0, periods // 2), range(periods // 2, periods))
+        change = [st.mean(diff(s, p, frames) for p in halves[1]) - st.mean(diff(s, p, frames) for p in halves[0])
+                  for s in seeds]
+
+        def ratio(ps):
+            def level(c):
+                return st.mean(err[(c, s)][p * PERIOD + f] for s in seeds for p in ps for f in frames)
+            return level(0) / level(best)
+        print("  second half − first half of that penalty: %+.4f ± %.4f (%d of %d seeds positive); none / %d: ×%.3f → ×%.3f"
+              % (ci(change) + (sum(x > 0 for x in change), len(change), best, ratio(halves[0]), ratio(halves[1]))))
 
 
 if __name__ == "__main__":
