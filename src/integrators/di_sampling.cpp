@@ -32,11 +32,11 @@ float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& 
   return di_target_in(lights.view(), ctx.accel.ray_epsilon(), AccelTracer{&ctx.accel}, s, y, visibility);
 }
 
-DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
+DiReservoir di_initial_reservoir(const PathWorld& w, const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
                                  bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile,
                                  std::span<const EnvTileEntry> env_tile) {
   const DiTileView tv{tile.data(), uint32_t(tile.size()), env_tile.data(), uint32_t(env_tile.size())};
-  return di_initial_reservoir_in(path_world(ctx), AccelTracer{&ctx.accel}, s, light_candidates, bsdf_candidates, visibility, rng, tv);
+  return di_initial_reservoir_in(w, AccelTracer{&ctx.accel}, s, light_candidates, bsdf_candidates, visibility, rng, tv);
 }
 
 void LightTiles::build(const Lights& lights, int count, int size, uint32_t frame, uint64_t seed, uint32_t chain, int env_size) {

@@ -78,8 +78,9 @@ float di_target(const RenderContext& ctx, const Lights& lights, const GSurface& 
 // Confidence = M_l + M_b. With `visibility`, the chosen sample is shadow-tested and its weight
 // zeroed if occluded, making the reservoir's target p̂·V (Bitterli et al. 2020, §4.4 "visibility reuse").
 // A light candidate that picks the environment takes its direction from env_tile when it is given
-// (LightTiles), instead of sampling the map.
-DiReservoir di_initial_reservoir(const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
+// (LightTiles), instead of sampling the map. w: path_world(ctx), built once per stage rather than
+// copied per pixel.
+DiReservoir di_initial_reservoir(const PathWorld& w, const RenderContext& ctx, const GSurface& s, int light_candidates, int bsdf_candidates,
                                  bool visibility, Pcg32& rng, std::span<const LightTileEntry> tile = {},
                                  std::span<const EnvTileEntry> env_tile = {});
 

@@ -20,11 +20,6 @@ namespace rl {
 
 PathWorld path_world(const RenderContext& ctx) { return {ctx.accel.scene_view(), ctx.lights.view(), ctx.accel.ray_epsilon()}; }
 
-bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st, const Hit* hit, PendingShadow& shadow,
-                 bool skip_first_emission) {
-  return path_bounce(path_world(ctx), opt, st, hit, shadow, skip_first_emission);
-}
-
 namespace {
 // path_radiance_in's Tracer on the CPU that also counts (and, for benchmarks, records) its rays.
 struct CountingTracer {
@@ -129,9 +124,11 @@ class PathTracer final : public Integrator {
     }
     {
       StageTimer timer(frame.stages, "shade");
+      // The views once per stage, as every stage builds them, not a ~380-byte copy per path.
+      const PathWorld world = path_world(ctx_);
       parallel_for_chunks(n, kChunk, [&](size_t a, size_t b) {
         for (size_t k = a; k < b; ++k)
-          alive_[k] = path_bounce(ctx_, ctx_.options.path, paths_[live_[k]], hits_[k].valid() ? &hits_[k] : nullptr, shadows_[k]);
+          alive_[k] = path_bounce(world, ctx_.options.path, paths_[live_[k]], hits_[k].valid() ? &hits_[k] : nullptr, shadows_[k]);
       });
     }
     {

@@ -17,13 +17,6 @@ struct PathStats {
   std::vector<Ray>* record_shadow_rays = nullptr;
 };
 
-// One bounce of the path tracer, given the closest hit of st.ray (null: it escaped): adds the
-// emission it sees (MIS-weighted), prepares next-event estimation in `shadow`, samples the next
-// direction and applies Russian roulette. false: the path ends (after `shadow` is resolved).
-// path_radiance and the wavefront path tracer both run exactly this, so their images agree.
-bool path_bounce(const RenderContext& ctx, const PathOptions& opt, PathState& st, const Hit* hit, PendingShadow& shadow,
-                 bool skip_first_emission = false);
-
 // Radiance arriving along `ray` (pbrt-v4 PathIntegrator::Li): emission, next-event estimation and
 // BSDF sampling combined with MIS, Russian roulette. Shared by the reference integrator and the
 // ReSTIR integrators for their reference/path parts.
@@ -38,7 +31,9 @@ Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, con
 
 // camera_ray (path_kernel.h) with the render's options.
 Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);
-// path_bounce (path_kernel.h) on the host's views of the context's scene and lights.
+// What path_bounce (path_kernel.h: one bounce, which path_radiance and the wavefront path tracer
+// both run, so their images agree) and the other per-sample kernels read: the host's views of the
+// context's scene and lights. Build it once per stage, not per sample: it is ~380 bytes.
 PathWorld path_world(const RenderContext& ctx);
 
 }  // namespace rl

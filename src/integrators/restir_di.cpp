@@ -108,7 +108,7 @@ class RestirDi final : public Integrator {
       parallel_for_pixels(w, h, [&](int x, int y) {
         const uint32_t p = uint32_t(y * w + x);
         Pcg32 rng = make_rng(p, f, RngPass::light_candidates, seed, chain);
-        c.reservoirs[p] = di_initial_reservoir(ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse,
+        c.reservoirs[p] = di_initial_reservoir(world, ctx_, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse,
                                                rng, tiles_.tile_of(x, y, w, f, seed, chain), tiles_.env_tile_of(x, y, w, f, seed, chain));
       }, frame.progress);
     }
