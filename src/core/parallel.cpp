@@ -9,12 +9,9 @@
 
 namespace rl {
 
-namespace {
-constexpr int kTile = 16;
-}
-
-void parallel_for_pixels(int width, int height, const std::function<void(int, int)>& fn,
-                         const std::function<void(int, int)>& progress) {
+void parallel_for_tiles(int width, int height, const std::function<void(int, int, int, int)>& fn,
+                        const std::function<void(int, int)>& progress) {
+  constexpr int kTile = kPixelTile;
   const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
   const int tiles = tiles_x * tiles_y;
   std::atomic<int> done{0};
@@ -22,9 +19,7 @@ void parallel_for_pixels(int width, int height, const std::function<void(int, in
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
     for (int t = r.begin(); t < r.end(); ++t) {
       int tx = t % tiles_x, ty = t / tiles_x;
-      int x1 = std::min(width, (tx + 1) * kTile), y1 = std::min(height, (ty + 1) * kTile);
-      for (int y = ty * kTile; y < y1; ++y)
-        for (int x = tx * kTile; x < x1; ++x) fn(x, y);
+      fn(tx * kTile, ty * kTile, std::min(width, (tx + 1) * kTile), std::min(height, (ty + 1) * kTile));
       int d = ++done;
       if (progress) {
         std::unique_lock lock(progress_mutex, std::try_to_lock);
@@ -35,6 +30,14 @@ void parallel_for_pixels(int width, int height, const std::function<void(int, in
       }
     }
   });
+}
+
+void parallel_for_pixels(int width, int height, const std::function<void(int, int)>& fn,
+                         const std::function<void(int, int)>& progress) {
+  parallel_for_tiles(width, height, [&](int x0, int y0, int x1, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) fn(x, y);
+  }, progress);
 }
 
 void parallel_for(int n, const std::function<void(int)>& fn) {

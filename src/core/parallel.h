@@ -7,8 +7,15 @@
 
 namespace rl {
 
-// Calls fn(x, y) for every pixel, tile by tile on TBB worker threads; progress(done, total) is
-// called from one thread at a time after each finished tile (may be empty).
+// The side of the fixed square tiles the pixel loops split an image into.
+inline constexpr int kPixelTile = 16;
+
+// Calls fn(x0, y0, x1, y1) for every tile -- pixels [x0, x1) x [y0, y1), kPixelTile square, clipped
+// to the image -- on TBB worker threads; progress(done, total) is called from one thread at a time
+// after each finished tile (may be empty). For stages that batch a tile's work (its camera rays).
+void parallel_for_tiles(int width, int height, const std::function<void(int, int, int, int)>& fn,
+                        const std::function<void(int, int)>& progress = {});
+// Calls fn(x, y) for every pixel, tile by tile (parallel_for_tiles).
 void parallel_for_pixels(int width, int height, const std::function<void(int, int)>& fn,
                          const std::function<void(int, int)>& progress = {});
 // Calls fn(i) for i in [0, n) in parallel.

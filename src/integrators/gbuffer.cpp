@@ -23,25 +23,21 @@ void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSu
   fill_gsurface(ctx.accel.scene_view(), ctx.lights.view(), ray, hit, s, back ? back->data() : nullptr, back ? uint32_t(back->size()) : 0);
 }
 
-// The primary hits of a frame: camera rays tile by tile (16x16 pixels, one Embree stream call),
-// traced as a coherent batch -- Embree turns neighbouring camera rays into packets, which traverse
-// the BVH once for several rays -- then each pixel's surface. The hits are one scalar query per
+// The primary hits of a frame: camera rays tile by tile (parallel_for_tiles' 16x16 pixels, one
+// Embree stream call), traced as a coherent batch -- Embree turns neighbouring camera rays into
+// packets, which traverse the BVH once for several rays -- then each pixel's surface. The hits are one scalar query per
 // pixel's to float precision (tests/test_gbuffer.cpp): bit for bit on triangles but where a ray
 // meets two at one point; Embree's packet sphere test rounds the last bits differently. The tiles
 // are fixed, so the G-buffer does not depend on the thread count. (The wavefront path tracer's
 // camera rays have gone through the same packets since issue 9.)
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
-  constexpr int kTile = 16;
   g.width = camera.width();
   g.height = camera.height();
   g.pixels.resize(size_t(g.width) * size_t(g.height));  // no clearing: fill_gsurface writes every entry
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
-  const int tiles_x = (g.width + kTile - 1) / kTile, tiles_y = (g.height + kTile - 1) / kTile;
-  parallel_for(tiles_x * tiles_y, [&](int t) {
-    const int x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
-    const int x1 = std::min(g.width, x0 + kTile), y1 = std::min(g.height, y0 + kTile);
-    std::array<Ray, kTile * kTile> rays;
-    std::array<Hit, kTile * kTile> hits;
+  parallel_for_tiles(g.width, g.height, [&](int x0, int y0, int x1, int y1) {
+    std::array<Ray, kPixelTile * kPixelTile> rays;
+    std::array<Hit, kPixelTile * kPixelTile> hits;
     size_t n = 0;
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) rays[n++] = camera_ray(ctx, camera, x, y, frame, sample);
