@@ -21,6 +21,7 @@ PHASES = [("frames 1-7 (light sweeping)", range(1, 8)), ("frames 15-19 (one ligh
           ("frames 25-31", range(25, 32))]
 SWITCH, STEADY = 8, range(15, 20)
 SWITCHES = [("frame 8 (switch-off)", range(8, 9)), ("frame 20 (switch-on)", range(20, 21))]
+WINDOWS = PHASES[:1] + SWITCHES[:1] + PHASES[1:2] + SWITCHES[1:] + PHASES[2:]  # in frame order
 
 
 def ci(values):
@@ -37,15 +38,14 @@ def lag(per_frame):
 
 def paired(err, caps, base):
     """Per cap: cap − base in each phase and switch frame, paired per seed."""
-    windows = PHASES + SWITCHES
-    print("\n| cap − %s (paired) | %s |" % ("none" if base == 0 else base, " | ".join(p for p, _ in windows)))
-    print("|---|" + "---|" * len(windows))
+    print("\n| cap − %s (paired) | %s |" % ("none" if base == 0 else base, " | ".join(p for p, _ in WINDOWS)))
+    print("|---|" + "---|" * len(WINDOWS))
     for cap in caps:
         if cap == base:
             continue
         seeds = sorted(s for c, s in err if c == cap and (base, s) in err)
         cells = []
-        for _, frames in windows:
+        for _, frames in WINDOWS:
             d = [st.mean(err[(cap, s)][f] for f in frames) - st.mean(err[(base, s)][f] for f in frames) for s in seeds]
             b = st.mean(st.mean(err[(base, s)][f] for f in frames) for s in seeds)
             m, h = mean_ci(d)
@@ -58,12 +58,11 @@ def main(path, key, base=1):
     for r in csv.DictReader(open(path)):
         err[(int(float(r[key])), r["seed"])][int(r["frame"])] = float(r["relmse"])
     caps = sorted({c for c, _ in err}, key=lambda c: (c != 0, c))
-    windows = PHASES[:1] + SWITCHES[:1] + PHASES[1:2] + SWITCHES[1:] + PHASES[2:]
-    print("| cap | " + " | ".join(p for p, _ in windows) + " | lag after switch-off (frames) |")
-    print("|---|" + "---|" * (len(windows) + 1))
+    print("| cap | " + " | ".join(p for p, _ in WINDOWS) + " | lag after switch-off (frames) |")
+    print("|---|" + "---|" * (len(WINDOWS) + 1))
     for cap in caps:
         seeds = [s for c, s in err if c == cap]
-        cells = [ci([st.mean(err[(cap, s)][f] for f in frames) for s in seeds]) for _, frames in windows]
+        cells = [ci([st.mean(err[(cap, s)][f] for f in frames) for s in seeds]) for _, frames in WINDOWS]
         frames = sorted(err[(cap, seeds[0])])
         mean_per_frame = {f: st.mean(err[(cap, s)][f] for s in seeds) for f in frames}
         print("| %s | %s | %s |" % ("none" if cap == 0 else cap, " | ".join(cells), lag(mean_per_frame)))
