@@ -2,7 +2,9 @@
 """Frame time against pixel count from the resolution study's results.csv (docs/results/resolution):
 per (scene, integrator), the least-squares slope of log(ms_median) on log(pixels) over every run
 (sizes x seeds) with its 95% interval (t, n - 2 degrees of freedom; 1 = time proportional to the
-pixel count), and the mean ms per Mpixel at each size (a constant column means linear).
+pixel count), and the mean ms per Mpixel at each size (a constant column means linear); then, per
+(scene, integrator, size), the median frame time, fps and ms per Mpixel, mean ± 95% half-width
+over the seeds (RESULTS.md's second table).
     scripts/resolution_slope.py OUT/results.csv"""
 import csv
 import math
@@ -45,6 +47,23 @@ def main(path):
             m, hw = mean_ci(v) if v else (float("nan"), float("nan"))
             cells.append("%.0f ± %.0f" % (m, hw) if len(v) > 1 else "%.0f" % m)
         print("| %s | %s | %.3f ± %.3f | %s |" % (scene, integ, b, h, " | ".join(cells)))
+    print()
+    print("| scene | integrator | size | ms_median | fps | ms per Mpixel |")
+    print("|---|---|---|---|---|---|")
+    for (scene, integ), pts in sorted(runs.items()):
+        for s in sizes:
+            ms = [v for px, v in pts if px == s]
+            if not ms:
+                continue
+            width = round(math.sqrt(s * 16 / 9))
+            cols = [mean_ci(ms), mean_ci([1000 / v for v in ms]), mean_ci([v / (s / 1e6) for v in ms])]
+            print("| %s | %s | %dx%d | %s |" % (scene, integ, width, s // width, " | ".join(fmt(m, hw) for m, hw in cols)))
+
+
+def fmt(m, hw):
+    """m ± hw with three significant digits in m."""
+    digits = max(0, 2 - int(math.floor(math.log10(abs(m))))) if m else 0
+    return "%.*f ± %.*f" % (digits, m, digits, hw)
 
 
 if __name__ == "__main__":
