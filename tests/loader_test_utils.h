@@ -8,8 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <set>
+#include <system_error>
 #include <unistd.h>
+#include <vector>
 
 #include "image/image_io.h"
 #include "scene/loader.h"
@@ -20,11 +23,27 @@ namespace rl::loader_test {
 namespace fs = std::filesystem;
 
 
+// The directories temp_dir() made, removed when the test process exits: every loader test run
+// used to leave its files behind in /tmp (a thousand directories after a few dozen runs).
+struct TempDirs {
+  std::mutex mutex;
+  std::vector<fs::path> made;
+  ~TempDirs() {
+    for (const fs::path& d : made) {
+      std::error_code ec;
+      fs::remove_all(d, ec);
+    }
+  }
+};
+
 inline fs::path temp_dir() {
+  static TempDirs dirs;
   static std::atomic<int> counter{0};
   fs::path d = fs::temp_directory_path() /
                ("restir_loaders_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   fs::create_directories(d);
+  std::lock_guard<std::mutex> lock(dirs.mutex);
+  dirs.made.push_back(d);
   return d;
 }
 
