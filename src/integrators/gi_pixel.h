@@ -70,6 +70,11 @@ struct GiViewBridge {
     jacobian = gi_jacobian(y, surfaces[i]->p, surfaces[0]->p);
     return jacobian > 0;
   }
+  // Another domain's stored target is p̂_i(y) at its own visible point, visibility included (this
+  // scene: nothing moves, so last frame's history too), and the shift keeps x = y with
+  // |∂T_{0→i}/∂x| = 1 / |∂T_{i→0}/∂y| (ReSTIR GI eq. 11 both ways). So combine() reads p̂_i(y) /
+  // jacobian (mis.h) instead of tracing domain i's shadow ray to x again.
+  RESTIR_HD bool stored_target_valid(int i) const { return i > 0; }
   RESTIR_HD float target_from(int i, const GiSample& x) const {
     const float t = gi_target_in(*world, *tracer, kind, *surfaces[i], x, true);
     return i == 0 ? t : t * gi_jacobian(x, surfaces[0]->p, surfaces[i]->p);

@@ -556,6 +556,15 @@ struct PtViewBridge {
   RESTIR_HD bool shift_to_canonical(int, const PathSample& y, PathSample& x, float& jacobian) const {
     return shift_path_in(*world, *tracer, *ps, y, *surfaces[0], x, jacobian);
   }
+  // Another domain's stored target is p̂_i of its own sample y, computed at its own primary hit in
+  // this scene (nothing moves, so last frame's history too), and shift_path_in maps x = T_{i→0}(y)
+  // back onto y: the prefix is replayed with y's random numbers from the same primary hit, x keeps
+  // y's reconnection vertex and suffix, and the hybrid shift's invertibility check (GRIS §7.2) makes
+  // both walks choose the same reconnection index. So combine() reads p̂_i(y) / jacobian (mis.h)
+  // instead of shifting the path back: one shift, and its rays, fewer per neighbour, as in Lin's
+  // reference implementation. Without the check (a planted bias of the tests) the shifts need not
+  // invert each other, and the target is evaluated.
+  RESTIR_HD bool stored_target_valid(int i) const { return i > 0 && ps->check_invertibility; }
   RESTIR_HD float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;

@@ -74,6 +74,10 @@ struct GiBridge {
   GiViewBridge<AccelTracer> view;    // this frame's scene: everything but an animated history
   const RenderContext* ctx;
   const GiMotion* motion = nullptr;  // temporal pass of an animated scene
+  bool history_moved = false;        // temporal pass of an animated scene, motion or not (planted)
+  // The view's reasoning, except for an animated scene's history: its shift is a replay between
+  // frames, and its stored target was computed in the other frame's scene.
+  bool stored_target_valid(int i) const { return i > 0 && !(i == 1 && history_moved); }
   bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     if (i == 1 && motion) {
       x = replayed(*ctx, *motion->path, *view.surfaces[0], carried(ctx->scene, motion->forward, y));
@@ -135,9 +139,11 @@ class RestirGi final : public Integrator {
     }
     const PathWorld world = path_world(ctx_);
     const AccelTracer tracer{&ctx_.accel};
+    const bool animated = scene_animated(ctx_.scene);  // once per frame: it scans the scene
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       const bool planted = ctx_.planted && ctx_.planted->gi_history_cached;
-      return GiBridge{{&world, &tracer, o.gi.target, surfaces}, &ctx_, temporal && previous && !planted ? &motion : nullptr};
+      return GiBridge{{&world, &tracer, o.gi.target, surfaces}, &ctx_, temporal && previous && !planted ? &motion : nullptr,
+                      temporal && animated};
     };
 
     {

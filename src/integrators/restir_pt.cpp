@@ -35,7 +35,16 @@ struct PtBridge {
   const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
   const RenderContext* history = nullptr;  // domain 1's scene when it is another frame's; else null
   const PathWorld* history_world = nullptr;  // history's views
+  // Domain 1 is last frame's pixel evaluated in this frame's scene (pt.history_scene = current in an
+  // animated scene): its stored target was computed in the other scene.
+  bool history_in_other_scene = false;
   mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
+  // PtViewBridge's reasoning; it holds in an animated scene too as long as each domain's target is
+  // evaluated in the scene its reservoir was made in. The planted biases of the tests act in
+  // target_from and keep it.
+  bool stored_target_valid(int i) const {
+    return i > 0 && ps->check_invertibility && !ctx->planted && !(i == 1 && history_in_other_scene);
+  }
   bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
     if (i == 1 && history) return shift_path(*history_world, history->accel, *ps, x, to, y, jacobian);
     return shift_path(*world, ctx->accel, *ps, x, to, y, jacobian);
@@ -98,9 +107,11 @@ class RestirPt final : public Integrator {
     const std::optional<RenderContext> history = previous_context(ctx_, frame);
     const PathWorld world = path_world(ctx_);
     const std::optional<PathWorld> history_world = history ? std::optional<PathWorld>(path_world(*history)) : std::nullopt;
+    const bool animated = scene_animated(ctx_.scene);  // once per frame: it scans the scene
     auto make_bridge = [&](const GSurface* const* surfaces, int, bool temporal) {
       const bool past = temporal && history;
-      return PtBridge{&ctx_, &world, &settings_, surfaces, past ? &*history : nullptr, past ? &*history_world : nullptr};
+      return PtBridge{&ctx_, &world, &settings_, surfaces, past ? &*history : nullptr, past ? &*history_world : nullptr,
+                      temporal && !history && animated};
     };
 
     // 1. Initial paths.

@@ -10,11 +10,15 @@
 //   // p̂_{←i}(x): source i's target function at the canonical-domain sample x shifted back to
 //   // domain i, times that shift's jacobian |∂T_{0→i}/∂x| (0 when the shift fails). For i == 0: p̂_0(x).
 //   float target_from(int i, const Sample& x) const;
-//   // Optional: true when input i's stored target is p̂_{←i} of its own sample after the shift,
-//   // i.e. the shift T_{i→0} is the identity with jacobian 1 and input i's domain computed its target
-//   // with the same function target_from(i, ·) uses (ReSTIR DI's spatial reuse: neighbours of this
-//   // frame, one target). combine() then reads inputs[i]->target instead of evaluating it again
-//   // (and tracing its shadow ray): RTXDI reads the stored target pdf the same way.
+//   // Optional: true when input i's stored target is p̂_i(y) of its own sample y, computed in domain i
+//   // with the function target_from(i, ·) uses, and T_{0→i} inverts T_{i→0} wherever the latter
+//   // succeeds. Then p̂_{←i}(x) = p̂_i(T_{0→i}(x)) |∂T_{0→i}/∂x| at x = T_{i→0}(y) is
+//   // p̂_i(y) / |∂T_{i→0}/∂y| (the inverse function theorem applied to p̂_{←i} of GRIS, Lin et al.
+//   // 2022, eq. 22, which is defined through the inverse shift), and combine() reads
+//   // inputs[i]->target / jacobian instead of shifting x back (a whole path and its rays in ReSTIR
+//   // PT; a shadow ray in ReSTIR DI, whose identity shift has jacobian 1, and ReSTIR GI). RTXDI reads the stored target pdf the same way, and the
+//   // ReSTIR PT reference (Lin's pairwise MIS) divides the neighbour's stored integrand by the
+//   // shift's Jacobian.
 //   bool stored_target_valid(int i) const;
 #pragma once
 #include <algorithm>
@@ -48,11 +52,12 @@ namespace detail {
 // For every x with p̂_0(x) > 0 the weights of all sources sum to one (each pair's two fractions sum to 1).
 RESTIR_HD inline float pairwise_fraction(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
 
-// p̂_{←i} of input i's own (shifted) sample x: its stored target where the bridge vouches for it.
+// p̂_{←i} of input i's own sample shifted to x = T_{i→0}(y) with `jacobian` |∂T_{i→0}/∂y|: its
+// stored target over that jacobian where the bridge vouches for it (see Bridge above).
 template <class Bridge, class Sample>
-RESTIR_HD float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const Sample& x) {
+RESTIR_HD float own_target(const Bridge& bridge, int i, const Reservoir<Sample>& in, const Sample& x, float jacobian) {
   if constexpr (requires { bridge.stored_target_valid(i); }) {
-    if (bridge.stored_target_valid(i)) return in.target;
+    if (bridge.stored_target_valid(i)) return in.target / jacobian;
   }
   return bridge.target_from(i, x);
 }
@@ -87,7 +92,7 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
       (void)rng.next_float();
       continue;
     }
-    const float p0 = i == 0 ? detail::own_target(bridge, 0, in, x) : bridge.target_from(0, x);
+    const float p0 = i == 0 ? detail::own_target(bridge, 0, in, x, jacobian) : bridge.target_from(0, x);
     float m = 0;
     switch (mis) {
       case ReuseMis::constant:
@@ -99,7 +104,7 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
       case ReuseMis::generalized_balance: {
         float num = 0, den = 0;
         for (int j = 0; j < n; ++j) {
-          const float pj = j == 0 ? p0 : j == i ? detail::own_target(bridge, i, in, x) : bridge.target_from(j, x);
+          const float pj = j == 0 ? p0 : j == i ? detail::own_target(bridge, i, in, x, jacobian) : bridge.target_from(j, x);
           const float t = inputs[size_t(j)]->confidence * pj;
           den += t;
           if (j == i) num = t;
@@ -114,7 +119,7 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
             m += inputs[size_t(j)]->confidence / m_sum *
                  detail::pairwise_fraction(m_c * p0, m_rest * bridge.target_from(j, x));
         } else {
-          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * detail::own_target(bridge, i, in, x), m_c * p0);
+          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * detail::own_target(bridge, i, in, x, jacobian), m_c * p0);
         }
         break;
       }
