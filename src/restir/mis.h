@@ -16,9 +16,9 @@
 //   // p̂_i(y) / |∂T_{i→0}/∂y| (the inverse function theorem applied to p̂_{←i} of GRIS, Lin et al.
 //   // 2022, eq. 22, which is defined through the inverse shift), and combine() reads
 //   // inputs[i]->target / jacobian instead of shifting x back (a whole path and its rays in ReSTIR
-//   // PT; a shadow ray in ReSTIR DI, whose identity shift has jacobian 1, and ReSTIR GI). RTXDI reads the stored target pdf the same way, and the
-//   // ReSTIR PT reference (Lin's pairwise MIS) divides the neighbour's stored integrand by the
-//   // shift's Jacobian.
+//   // PT; a shadow ray in ReSTIR DI, whose identity shift has jacobian 1, and in ReSTIR GI). RTXDI
+//   // reads the stored target pdf the same way, and the ReSTIR PT reference (Lin's pairwise MIS)
+//   // divides the neighbour's stored integrand by the shift's Jacobian.
 //   bool stored_target_valid(int i) const;
 #pragma once
 #include <algorithm>
