@@ -185,8 +185,8 @@ RESTIR_HD void DiInitialResampler<Tracer>::light_candidates(int count, Pcg32& rn
       // The emitter records are read in the batch's gather; fetching them now overlaps the cache
       // misses with the rest of this loop (they were a sixth of the candidate stage).
       const char* record = reinterpret_cast<const char*>(L_.emitters + b.emitter[i]);
-      __builtin_prefetch(record);
-      __builtin_prefetch(record + 64);
+      prefetch_line(record);
+      prefetch_line(record + 64);
     }
     const uint32_t scalar = di_eval_light_candidates_host(L_, s_, wo_l_, mb_ > 0, b) & ~skip;
     stream_batch(b, scalar, skip, u_stream, tile);

@@ -130,7 +130,7 @@ RESTIR_HD inline void spatial_positions(float radius, int k, float rotation, int
 inline void prefetch_lines(const void* p, size_t bytes) {
   const uintptr_t first = reinterpret_cast<uintptr_t>(p) & ~uintptr_t(63);
   const uintptr_t end = reinterpret_cast<uintptr_t>(p) + bytes;
-  for (uintptr_t a = first; a < end; a += 64) __builtin_prefetch(reinterpret_cast<const void*>(a));
+  for (uintptr_t a = first; a < end; a += 64) prefetch_line(reinterpret_cast<const void*>(a));
 }
 
 // Fetches the G-buffer entries and reservoirs of the neighbours inside the image.
@@ -166,10 +166,15 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
 #ifndef __CUDA_ARCH__
   // The neighbours' G-buffer entries and reservoirs are up to spatial_radius rows away: cache
   // misses that were half of this function's time (ReSTIR PT). Fetching all of them before the
-  // first is read overlaps the misses. (Fetching the next pixel's neighbours too, one pixel ahead,
-  // measured no faster, 1280x720, 3 paired runs: ReSTIR PT's spatial pass 670/689/717 ms with it,
-  // 631/686/685 without; ReSTIR DI's the same within the noise.)
+  // first is read overlaps the misses with each other; fetching the next pixel's (x + 1, the next
+  // one in a tile row, from its own stream's rotation) overlaps them with this pixel's shifts too.
   prefetch_neighbours(g, reservoirs, k, nxs, nys);
+  if (x + 1 < w) {
+    Pcg32 ahead = make_rng(p + 1, f.frame, RngPass::spatial, f.seed, f.chain * 16u + uint32_t(round));
+    int axs[kMaxReuseNeighbors], ays[kMaxReuseNeighbors];
+    spatial_positions(rp.spatial_radius, k, ahead.next_float(), x + 1, y, axs, ays);
+    prefetch_neighbours(g, reservoirs, k, axs, ays);
+  }
 #endif
   for (int j = 0; j < k; ++j) {
     const int nx = nxs[j], ny = nys[j];

@@ -243,7 +243,7 @@ RESTIR_HD inline bool LightsView::sample_environment(Vec2 u, LightSample& out) c
     // The lookup at the end reads texel (x, y) (a neighbour only when rounding moves the direction
     // across an edge): fetching it now overlaps its cache miss with the trigonometry in between.
     // The miss was a third of this function's time (teapots, ReSTIR PT, 1024x512 map).
-    __builtin_prefetch(env_texels + size_t(y) * size_t(w) + size_t(x));
+    prefetch_line(env_texels + size_t(y) * size_t(w) + size_t(x));
 #endif
     const Vec2 uv{(float(x) + fx) / float(w), (float(y) + fy) / float(h)};
     if (env_mapping == EnvironmentLight::Mapping::equirect) {
