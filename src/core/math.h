@@ -24,8 +24,8 @@ inline constexpr float kInfinity = 1e30f;  // a finite "infinity": stays well-de
 
 // Starts loading the cache line at p (host only; nothing on the device). The instruction itself,
 // not __builtin_prefetch: GCC 12 -O2 deleted every __builtin_prefetch of the spatial reuse passes'
-// line loop (reuse_pixel.h's prefetch_lines; the binaries of 1a2ef10 and 641712d have none) and of a
-// const member function that only prefetched, as code without effects. An asm volatile stays.
+// line loop (reuse_pixel.h's prefetch_lines; the binaries of 1a2ef10 and 641712d have none) as
+// code without effects. An asm volatile stays.
 RESTIR_HD inline void prefetch_line(const void* p) {
 #if defined(__CUDA_ARCH__)
   (void)p;

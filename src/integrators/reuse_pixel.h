@@ -41,6 +41,12 @@ struct ReuseFrame {
   uint32_t chain = 0;
 };
 
+// Pixel p's random stream in spatial round `round` (its first number rotates the neighbour spiral):
+// the one key spatial_pixel and its look-ahead prefetch both draw from.
+RESTIR_HD inline Pcg32 spatial_stream(const ReuseFrame& f, int round, uint32_t p) {
+  return make_rng(p, f.frame, RngPass::spatial, f.seed, f.chain * 16u + uint32_t(round));
+}
+
 // The non-finite policy of every integrator: a reservoir that met a NaN or infinite target makes
 // its pixel NaN, and the render driver reports the frame's non-finite pixels (render.cpp).
 template <class Sample>
@@ -155,7 +161,7 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   const GSurface& cur = g.at(x, y);
   next[p] = reservoirs[p];
   if (!cur.valid) return;
-  Pcg32 rng = make_rng(p, f.frame, RngPass::spatial, f.seed, f.chain * 16u + uint32_t(round));
+  Pcg32 rng = spatial_stream(f, round, p);
   const GSurface* surfaces[kMaxReuseNeighbors + 1];
   const Res* inputs[kMaxReuseNeighbors + 1];
   surfaces[0] = &cur;
@@ -170,7 +176,7 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   // one in a tile row, from its own stream's rotation) overlaps them with this pixel's shifts too.
   prefetch_neighbours(g, reservoirs, k, nxs, nys);
   if (x + 1 < w) {
-    Pcg32 ahead = make_rng(p + 1, f.frame, RngPass::spatial, f.seed, f.chain * 16u + uint32_t(round));
+    Pcg32 ahead = spatial_stream(f, round, p + 1);
     int axs[kMaxReuseNeighbors], ays[kMaxReuseNeighbors];
     spatial_positions(rp.spatial_radius, k, ahead.next_float(), x + 1, y, axs, ays);
     prefetch_neighbours(g, reservoirs, k, axs, ays);
