@@ -40,6 +40,7 @@ struct Vertex {
   Vec3 wo;  // world direction toward the previous vertex
   Bsdf bsdf;
   bool delta = false;
+  int material = -1;  // the hit's material (-1 at the primary vertex, which comes from the G-buffer)
 };
 
 RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
@@ -48,7 +49,7 @@ RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
 
 RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInteraction& si, Vec3 wo) {
   const MaterialParams& m = world.scene.materials[si.material];
-  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false};
+  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.material};
   v.delta = bsdf_is_delta(v.bsdf);
   return v;
 }
@@ -249,8 +250,9 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
   const Vertex& xk = w.v[size_t(k)];
   s.rc_position = xk.p;
   s.rc_normal = xk.ng;
-  s.rc_bsdf = xk.bsdf;
-  s.rc_frame = xk.frame;
+  s.rc_material = xk.material;
+  s.rc_reflectance = xk.bsdf.reflectance;
+  s.rc_shading_normal = xk.frame.n;
   s.rc_out = k == n - 1 ? t.wi : w.out[size_t(k)];
   Rgb suffix = tail;
   for (int i = k + 1; i <= n - 1; ++i) suffix *= (i == n - 1 ? last_fcos : w.fcos[size_t(i)]);
@@ -524,12 +526,14 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     if (tracer.occluded(spawn_ray_to(v.p, v.ng, base.rc_position, base.rc_normal, eps))) return false;
     const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(wi);
     const Rgb fcos_v = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
-    const Vec3 k_in = base.rc_frame.to_local(-wi), k_out = base.rc_frame.to_local(base.rc_out);
-    const Rgb fcos_k = bsdf_eval(base.rc_bsdf, k_in, k_out) * std::fabs(k_out.z);
+    const Frame k_frame = Frame::from_normal(base.rc_shading_normal);
+    const Bsdf k_bsdf = make_bsdf(world.scene.materials[base.rc_material], base.rc_reflectance);
+    const Vec3 k_in = k_frame.to_local(-wi), k_out = k_frame.to_local(base.rc_out);
+    const Rgb fcos_k = bsdf_eval(k_bsdf, k_in, k_out) * std::fabs(k_out.z);
     f = beta * fcos_v * fcos_k * base.rc_suffix;
     if (k == n - 1) {  // x_k is the vertex before the emitter: its BSDF density enters m_t
-      const float bsdf_pdf = direction_pdf(base.rc_bsdf, ps.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
-      mis = strategy_weight(ps, base.nee, bsdf_is_delta(base.rc_bsdf), base.rc_tail_light_pdf, bsdf_pdf);
+      const float bsdf_pdf = direction_pdf(k_bsdf, ps.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
+      mis = strategy_weight(ps, base.nee, bsdf_is_delta(k_bsdf), base.rc_tail_light_pdf, bsdf_pdf);
     } else {
       mis = base.rc_mis;
     }
