@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "convergence.h"
+#include "loader_test_utils.h"
 #include "pt_fixture.h"
 #include "image/metrics.h"
 #include "integrators/path_tracer.h"
@@ -201,6 +202,35 @@ TEST_SUITE("restir_pt") {
   TEST_CASE("shifts: identity on the own pixel, invertible with reciprocal jacobians (rough Cornell box)") {
     Fixture fx(shared_scene("cornell-box/scene-v4.pbrt"));
     for (ShiftMapping s : {ShiftMapping::reconnection, ShiftMapping::random_replay, ShiftMapping::hybrid}) {
+      CAPTURE(int(s));
+      CHECK(check_round_trips(fx, s, 3) > 50);
+    }
+  }
+
+  // The reservoir keeps x_k's material and texture value and rebuilds its BSDF from them (pt_path.h):
+  // on a box whose walls are red/blue checkerboards, a reconnection vertex rebuilt with the wrong
+  // reflectance (the material's untextured default, or another texel's) changes the identity
+  // shift's contribution by far more than its 2e-3 tolerance.
+  TEST_CASE("shifts: identity and invertibility with textured reconnection vertices (checkerboard box)") {
+    const std::filesystem::path dir = loader_test::temp_dir();
+    const std::string quad_uv = "\"point2 uv\" [0 0 1 0 1 1 0 1] \"integer indices\" [0 1 2 0 2 3]\n";
+    const std::string path = loader_test::write_file(dir / "checks.pbrt",
+        "LookAt 0 1 -2.5  0 1 0  0 1 0\nCamera \"perspective\" \"float fov\" 60\nWorldBegin\n"
+        "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 6 \"float vscale\" 6 "
+        "\"rgb tex1\" [0.9 0.1 0.1] \"rgb tex2\" [0.1 0.1 0.9]\n"
+        "AttributeBegin AreaLightSource \"diffuse\" \"rgb L\" [6 6 6]\n"
+        "Shape \"trianglemesh\" \"point3 P\" [-0.4 1.99 -0.4 0.4 1.99 -0.4 0.4 1.99 0.4 -0.4 1.99 0.4] " + quad_uv +
+        "AttributeEnd\n"
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+        // floor, back wall, left and right walls, ceiling (all facing the box's inside)
+        "Shape \"trianglemesh\" \"point3 P\" [-1 0 -1 1 0 -1 1 0 1 -1 0 1] " + quad_uv +
+        "Shape \"trianglemesh\" \"point3 P\" [-1 0 1 1 0 1 1 2 1 -1 2 1] " + quad_uv +
+        "Shape \"trianglemesh\" \"point3 P\" [-1 0 -1 -1 0 1 -1 2 1 -1 2 -1] " + quad_uv +
+        "Shape \"trianglemesh\" \"point3 P\" [1 0 -1 1 0 1 1 2 1 1 2 -1] " + quad_uv +
+        "Shape \"trianglemesh\" \"point3 P\" [-1 2 -1 1 2 -1 1 2 1 -1 2 1] " + quad_uv);
+    Fixture fx(path);
+    REQUIRE(!fx.scene.textures.empty());
+    for (ShiftMapping s : {ShiftMapping::reconnection, ShiftMapping::hybrid}) {
       CAPTURE(int(s));
       CHECK(check_round_trips(fx, s, 3) > 50);
     }
