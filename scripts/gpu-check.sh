@@ -28,20 +28,54 @@ run_checks() {
   local bin="$1"
   shift
   local runner=("$@")
+  mkdir -p "$(dirname "$results")"
   {
     echo "# restir-lab GPU check, $(date -u +%Y-%m-%dT%H:%MZ), commit ${COMMIT:-$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
     nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null || true
   } >"$results"
   local status=0
+  # One process per test case (doctest --first/--last over the file order), each under a time
+  # limit: a device error is sticky for the process that hit it, so a fault in one case must not
+  # fail the cases after it, and a hang must not eat the machine's minutes.
   echo "== restir_gpu_tests" | tee -a "$results"
-  "${runner[@]}" "$bin/restir_gpu_tests" --no-intro=true 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || status=${PIPESTATUS[0]}
+  local listing count
+  listing="$("${runner[@]}" "$bin/restir_gpu_tests" --no-intro=true --list-test-cases 2>&1)" || status=$?
+  if [ "$status" -eq 0 ]; then
+    count="$(sed -n 's/.*passing the current filters: \([0-9]*\).*/\1/p' <<<"$listing" | head -1)"
+    echo "$listing" | grep -v -e '^\[doctest\]' -e '^====' | tee -a "$results"
+    local i case_status failed=0
+    for i in $(seq 1 "${count:-0}"); do
+      case_status=0
+      echo "-- case $i of $count" | tee -a "$results"
+      timeout "${GPU_CHECK_CASE_TIMEOUT:-150}" "${runner[@]}" "$bin/restir_gpu_tests" --no-intro=true --first="$i" --last="$i" 2>&1 |
+        grep -v 'Film "filename" ignored' | tee -a "$results" || case_status=${PIPESTATUS[0]}
+      [ "$case_status" -eq 124 ] && echo "error: case $i ran past ${GPU_CHECK_CASE_TIMEOUT:-150} s" | tee -a "$results"
+      [ "$case_status" -ne 0 ] && failed=$((failed + 1))
+    done
+    echo "restir_gpu_tests: $failed of ${count:-0} cases failed" | tee -a "$results"
+    [ "$failed" -ne 0 ] && status=1
+  else
+    echo "$listing" | tee -a "$results"
+  fi
   if [ "$status" -ne 77 ]; then
     echo "== bench_gpu (1920x1080, 1 spp)" | tee -a "$results"
-    "${runner[@]}" "$bin/bench_gpu" --scene "$SCENES_SHARED/scenes/cornell-box/scene-v4.pbrt" \
+    timeout "${GPU_CHECK_BENCH_TIMEOUT:-240}" "${runner[@]}" "$bin/bench_gpu" --scene "$SCENES_SHARED/scenes/cornell-box/scene-v4.pbrt" \
       --scene "$SCENES_SHARED/scenes/veach-mis/scene-v4.pbrt" --scene "$SCENES_OWN/scenes/teapot.pbrt" \
       --di-scene "$SCENES_OWN/scenes/many-lights.pbrt" --gi-scene "$SCENES_OWN/scenes/teapot.pbrt" \
       --pt-scene "$SCENES_OWN/scenes/teapot.pbrt" 2>&1 |
       grep -v 'Film "filename" ignored' | tee -a "$results" || true
+    # Where the GPU frame's time goes: each stage's device time (synchronous launches), 1920x1080.
+    if [ -x "$bin/restir" ]; then
+      local integrator scene
+      for integrator in restir-di restir-pt pt; do
+        case "$integrator" in restir-di) scene="$SCENES_OWN/scenes/many-lights.pbrt" ;; *) scene="$SCENES_OWN/scenes/teapot.pbrt" ;; esac
+        echo "== stage times: $integrator, $(basename "$scene"), cuda, 1920x1080, 6 frames" | tee -a "$results"
+        timeout 60 "${runner[@]}" "$bin/restir" render "$scene" --integrator "$integrator" --spp 1 --frames 6 --set render.backend=cuda \
+          --set film.width=1920 --set film.height=1080 --timings "${TMPDIR:-/tmp}/stages-$integrator.csv" \
+          --png "$(dirname "$results")/gpu-$integrator.png" -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
+        cat "${TMPDIR:-/tmp}/stages-$integrator.csv" >>"$results" 2>/dev/null || true
+      done
+    fi
   fi
   # "No usable GPU" on a machine whose driver lists one is a failure (a driver or library
   # mismatch, say), not a skip.
@@ -59,7 +93,7 @@ build_gpu_programs() {  # build_gpu_programs DIR [cmake args...]
   source "$ROOT/scripts/common.sh"
   install_missing_packages
   cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DRESTIR_CUDA=ON -DRESTIR_VIEWER=OFF "$@" >/dev/null
-  cmake --build "$dir" -j "$(nproc)" --target restir_gpu_tests bench_gpu
+  cmake --build "$dir" -j "$(nproc)" --target restir_gpu_tests bench_gpu restir
 }
 
 case "${1:-}" in
@@ -71,10 +105,10 @@ case "${1:-}" in
     b="$stage/restir-gpu"
     # The repository's layout (repo/scenes beside shared/scenes): scenes refer to ../../shared.
     mkdir -p "$b/bin" "$b/lib" "$b/shared/scenes" "$b/repo/scenes"
-    cp "$ROOT/build-gpu/bin/restir_gpu_tests" "$ROOT/build-gpu/bin/bench_gpu" "$b/bin/"
+    cp "$ROOT/build-gpu/bin/restir_gpu_tests" "$ROOT/build-gpu/bin/bench_gpu" "$ROOT/build-gpu/bin/restir" "$b/bin/"
     # Every library the programs load, resolved through links; the CUDA driver (libcuda) is the GPU
     # machine's own and is not linked here (the static CUDA runtime opens it at run time).
-    for lib in $(ldd "$b/bin/restir_gpu_tests" "$b/bin/bench_gpu" | awk '$2 == "=>" && $3 ~ /^\// {print $3} $1 ~ /^\/.*ld-linux/ {print $1}' | sort -u); do
+    for lib in $(ldd "$b/bin/restir_gpu_tests" "$b/bin/bench_gpu" "$b/bin/restir" | awk '$2 == "=>" && $3 ~ /^\// {print $3} $1 ~ /^\/.*ld-linux/ {print $1}' | sort -u); do
       cp -L "$lib" "$b/lib/$(basename "$lib")"
     done
     # The rest of this glibc: the programs do not link them, but the CUDA driver (libcuda, opened
