@@ -6,7 +6,7 @@
 //   - the path tracer `pt`, render.backend = cpu vs cuda: ms per frame, the ratio, and the GPU's
 //     rays/s over the whole frame (issue 16: >= 1 billion on the Cornell box);
 //   - ReSTIR DI `restir-di` (defaults, --di-scene: many-lights) and ReSTIR PT `restir-pt` (defaults:
-//     hybrid, depth 5, 3 neighbours, temporal reuse; --pt-scene: the teapot), cpu vs cuda: ms per
+//     hybrid, 3 neighbours, temporal reuse, at depth 5 (--pt-depth); --pt-scene: the teapot), cpu vs cuda: ms per
 //     frame after the first and the ratio (issue 16 on the H200 at 1920x1080: DI <= 5 ms, PT <= 33 ms);
 //     ReSTIR GI `restir-gi` (defaults, --gi-scene: the teapot) the same way.
 // Without a usable GPU it prints why and exits 77 (nothing measured). Default 1920x1080, 1 spp.
@@ -50,19 +50,28 @@ void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::ve
   });
 }
 
-double frame_ms(const Scene& scene, Options o, const std::string& integrator, Backend backend, int frames) {
+struct FrameTime {
+  double ms = 0;         // median frame time after the first (which warms caches and the device)
+  double device_ms = 0;  // the same frames' stages less the image's copy to the host and uploads
+  std::string stages;    // each stage's median over the same frames
+};
+
+FrameTime frame_ms(const Scene& scene, Options o, const std::string& integrator, Backend backend, int frames) {
   o.integrator = integrator;
   o.render.backend = backend;
   o.render.frames = frames;
   RenderResult r = render(scene, o);
-  return bench::median(r.frame_ms, frames > 1 ? 1 : 0);  // the first frame warms caches and the device
+  const size_t skip = frames > 1 ? 1 : 0;
+  std::vector<double> device;
+  for (const StageTimes& st : r.frame_stages) device.push_back(st.total() - st.of("download") - st.of("upload"));
+  return {bench::median(r.frame_ms, skip), bench::median(device, skip), bench::stage_summary(r.frame_stages, skip)};
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"CUDA backend vs CPU backend: traversal rays/s and path tracer ms/frame"};
-  int width = 1920, height = 1080, spp = 1, repeats = 5, frames = 3;
+  int width = 1920, height = 1080, spp = 1, repeats = 5, frames = 3, pt_depth = 5;
   std::vector<std::string> scenes = {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt",
                                      std::string(RESTIR_SHARED_DIR) + "/scenes/veach-mis/scene-v4.pbrt",
                                      std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
@@ -72,6 +81,7 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "kernel repetitions (the best is reported)");
   app.add_option("--frames", frames, "path-traced frames per backend (the median after the first is reported)");
   app.add_option("--scene", scenes, "scenes to measure");
+  app.add_option("--pt-depth", pt_depth, "path.max_depth of the ReSTIR PT runs (issue 16: 5)");
   std::vector<std::string> di_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt"};
   app.add_option("--di-scene", di_scenes, "scenes to measure ReSTIR DI in");
   std::vector<std::string> pt_scenes = {std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt"};
@@ -109,7 +119,9 @@ int main(int argc, char** argv) {
     const CudaRayTiming any = cuda_time_rays(scene, shadow, repeats);
     const double cuda_ms = closest.closest_ms + any.any_ms;
     const double total = double(rays.size() + shadow.size());
-    const double cpu_pt = frame_ms(scene, o, "pt", Backend::cpu, frames), gpu_pt = frame_ms(scene, o, "pt", Backend::cuda, frames);
+    const double cpu_pt = frame_ms(scene, o, "pt", Backend::cpu, frames).ms;
+    const FrameTime gpu = frame_ms(scene, o, "pt", Backend::cuda, frames);
+    const double gpu_pt = gpu.ms;
     const std::string name = path.substr(path.find_last_of('/') + 1);
     fmt::print("{} {}x{} {} spp: {} rays ({} shadow)\n", name, width, height, spp, rays.size() + shadow.size(), shadow.size());
     fmt::print("  traversal: Embree (CPU, {} rays batched) {:.1f} ms = {:.1f} Mrays/s; CUDA kernels {:.2f} ms = {:.1f} Mrays/s "
@@ -120,6 +132,8 @@ int main(int argc, char** argv) {
     // recorded ray count is the GPU frame's too.
     fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms; cpu/cuda {:.1f}x; cuda {:.2f} Grays/s (closest + shadow rays per ms)\n",
                cpu_pt, gpu_pt, cpu_pt / gpu_pt, total / gpu_pt * 1e-6);
+    fmt::print("  cuda stages: {} (depth {}); without the image's copy to the host: {:.2f} ms = {:.2f} Grays/s\n", gpu.stages,
+               o.path.max_depth, gpu.device_ms, total / gpu.device_ms * 1e-6);
   }
   for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-gi", &gi_scenes}, std::pair{"restir-pt", &pt_scenes}})
     for (const std::string& path : *list) {
@@ -127,9 +141,14 @@ int main(int argc, char** argv) {
       Options o;
       apply_scene_hints(o, scene.hints);
       o.film.width = width, o.film.height = height, o.render.spp = spp;
-      const double cpu = frame_ms(scene, o, integrator, Backend::cpu, frames), gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
-      fmt::print("{} {}x{} {} spp: {} frame (defaults): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
-                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, cpu, gpu, cpu / gpu);
+      // Issue 16's ReSTIR PT configuration: hybrid shift, 3 neighbours, temporal reuse (the
+      // defaults) at path depth 5 (the teapot scene asks for 8).
+      if (integrator == std::string("restir-pt")) o.path.max_depth = pt_depth;
+      const double cpu = frame_ms(scene, o, integrator, Backend::cpu, frames).ms;
+      const FrameTime gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
+      fmt::print("{} {}x{} {} spp: {} frame (defaults, depth {}): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
+                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu, gpu.ms, cpu / gpu.ms);
+      fmt::print("  cuda stages: {}\n", gpu.stages);
     }
   return 0;
 }

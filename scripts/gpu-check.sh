@@ -72,7 +72,7 @@ run_checks() {
         echo "== stage times: $integrator, $(basename "$scene"), cuda, 1920x1080, 6 frames" | tee -a "$results"
         timeout 60 "${runner[@]}" "$bin/restir" render "$scene" --integrator "$integrator" --spp 1 --frames 6 --set render.backend=cuda \
           --set film.width=1920 --set film.height=1080 --timings "${TMPDIR:-/tmp}/stages-$integrator.csv" \
-          --png "$(dirname "$results")/gpu-$integrator.png" -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
+          --png "${TMPDIR:-/tmp}/gpu-$integrator.png" -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
         cat "${TMPDIR:-/tmp}/stages-$integrator.csv" >>"$results" 2>/dev/null || true
       done
     fi

@@ -89,6 +89,62 @@ __global__ void accumulate_kernel(const PathState* paths, uint64_t begin, uint32
   sums[pixel] = s;
 }
 
+__global__ void average_kernel(Rgb* sums, size_t n, float spp) {
+  const size_t i = size_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < n) sums[i] = sums[i] / spp;
+}
+
+// Each stage's device time from CUDA events on the default stream, read once at the end of the
+// frame: the stages run back to back, and the host waits only where it must (each bounce's live
+// count). A host-side timer around every launch would need a sync per launch, which at a path
+// depth of 65 cost more than the kernels (up to ~500 syncs a frame).
+class EventStages {
+ public:
+  ~EventStages() {
+    for (cudaEvent_t e : events_) cudaEventDestroy(e);
+  }
+  // Time what `launch` enqueues as `stage`.
+  template <class F>
+  void run(const char* stage, const F& launch) {
+    cudaEvent_t a = next(), b = next();
+    check(cudaEventRecord(a), "timing a stage");
+    launch();
+    check(cudaGetLastError(), stage);
+    check(cudaEventRecord(b), "timing a stage");
+    marks_.push_back({stage, a, b});
+  }
+  // Forgets what a frame that threw left behind.
+  void reset() { marks_.clear(), used_ = 0; }
+  // Waits for the device and adds each stage's time to `times` (which may be null).
+  void flush(StageTimes* times) {
+    if (!marks_.empty()) check(cudaEventSynchronize(marks_.back().stop), "finishing the frame");
+    for (const Mark& m : marks_) {
+      float ms = 0;
+      check(cudaEventElapsedTime(&ms, m.start, m.stop), "timing a stage");
+      if (times) times->add(m.stage, double(ms));
+    }
+    marks_.clear();
+    used_ = 0;
+  }
+
+ private:
+  struct Mark {
+    const char* stage;
+    cudaEvent_t start, stop;
+  };
+  cudaEvent_t next() {
+    if (used_ == events_.size()) {
+      cudaEvent_t e;
+      check(cudaEventCreate(&e), "creating an event");
+      events_.push_back(e);
+    }
+    return events_[used_++];
+  }
+  std::vector<cudaEvent_t> events_;
+  size_t used_ = 0;
+  std::vector<Mark> marks_;
+};
+
 class CudaPathTracer final : public Integrator {
  public:
   explicit CudaPathTracer(const RenderContext& ctx) : ctx_(ctx) {
@@ -104,6 +160,7 @@ class CudaPathTracer final : public Integrator {
       upload_world();
     }
     const Options& o = ctx_.options;
+    stages_.reset();
     const size_t spp = size_t(o.render.spp), pixels = out.size(), total = pixels * spp;
     const size_t wave = std::min(total, kWave);
     paths_.reserve(wave), live_.reserve(wave), next_live_.reserve(wave), hits_.reserve(wave), shadows_.reserve(wave);
@@ -113,50 +170,40 @@ class CudaPathTracer final : public Integrator {
     for (size_t begin = 0; begin < total; begin += kWave) {
       const uint32_t n = uint32_t(std::min(kWave, total - begin));
       args.begin = begin;
-      {
-        StageTimer timer(frame.stages, "camera");
-        start_paths_kernel<<<blocks_for(n), kBlock>>>(args, paths_.data, live_.data, n);
-        sync("generating camera rays");
-      }
-      for (uint32_t live = n; live > 0;) live = trace_bounce(frame, live);
-      accumulate_kernel<<<blocks_for(size_t(n) / spp + 2), kBlock>>>(paths_.data, begin, n, uint32_t(spp), sums_.data);
-      sync("adding up the pixels");
+      stages_.run("camera", [&] { start_paths_kernel<<<blocks_for(n), kBlock>>>(args, paths_.data, live_.data, n); });
+      for (uint32_t live = n; live > 0;) live = trace_bounce(live);
+      stages_.run("film", [&] {
+        accumulate_kernel<<<blocks_for(size_t(n) / spp + 2), kBlock>>>(paths_.data, begin, n, uint32_t(spp), sums_.data);
+      });
       if (frame.progress) frame.progress(int(begin / kWave + 1), int((total + kWave - 1) / kWave));
     }
+    // The mean on the device (the same IEEE division as the CPU's), then one copy to the host.
+    stages_.run("film", [&] { average_kernel<<<blocks_for(pixels), kBlock>>>(sums_.data, pixels, float(spp)); });
+    stages_.flush(frame.stages);
+    StageTimer timer(frame.stages, "download");
     check(cudaMemcpy(out.pixels.data(), sums_.data, pixels * sizeof(Rgb), cudaMemcpyDeviceToHost), "copying the image back");
-    for (Rgb& p : out.pixels) p = p / float(spp);  // non-finite values: the driver reports them
-  }
+  }  // non-finite values: the driver reports them
 
  private:
-  static constexpr size_t kWave = size_t(1) << 20;  // paths in flight: enough threads for a large GPU
-
-  void sync(const char* what) {
-    check(cudaGetLastError(), what);
-    check(cudaDeviceSynchronize(), what);
-  }
+  // Paths in flight: a 1920x1080 frame at 1 spp in one wave, so that each bounce is one launch of
+  // each stage (2^22 paths take about 1 GB of path state, hits and shadow rays).
+  static constexpr size_t kWave = size_t(1) << 22;
 
   // One bounce of the `live` paths listed in live_; returns how many go on (listed in live_ again).
-  uint32_t trace_bounce(const FrameInfo& frame, uint32_t live) {
-    {
-      StageTimer timer(frame.stages, "intersect");
-      intersect_kernel<<<blocks_for(live), kBlock>>>(bvh_, paths_.data, live_.data, live, hits_.data);
-      sync("tracing closest hits");
-    }
-    {
-      StageTimer timer(frame.stages, "shade");
+  // The three launches queue behind each other; reading the live count is the bounce's one wait.
+  uint32_t trace_bounce(uint32_t live) {
+    stages_.run("intersect", [&] { intersect_kernel<<<blocks_for(live), kBlock>>>(bvh_, paths_.data, live_.data, live, hits_.data); });
+    stages_.run("shade", [&] {
       shade_kernel<<<blocks_for(live), kBlock>>>(world_, ctx_.options.path, paths_.data, live_.data, live, hits_.data, shadows_.data,
                                                  alive_.data);
-      sync("shading");
-    }
-    uint32_t next = 0;
-    {
-      StageTimer timer(frame.stages, "shadow");
-      check(cudaMemset(count_.data, 0, sizeof(uint32_t)), "clearing a counter");
+    });
+    stages_.run("shadow", [&] {
+      check(cudaMemsetAsync(count_.data, 0, sizeof(uint32_t)), "clearing a counter");
       shadow_compact_kernel<<<blocks_for(live), kBlock>>>(bvh_, paths_.data, live_.data, live, shadows_.data, alive_.data,
                                                           next_live_.data, count_.data);
-      sync("tracing shadow rays");
-      check(cudaMemcpy(&next, count_.data, sizeof(uint32_t), cudaMemcpyDeviceToHost), "reading the live count");
-    }
+    });
+    uint32_t next = 0;
+    check(cudaMemcpy(&next, count_.data, sizeof(uint32_t), cudaMemcpyDeviceToHost), "tracing a bounce (closest hits, shading, shadow rays)");
     std::swap(live_.data, next_live_.data);
     std::swap(live_.capacity, next_live_.capacity);
     return next;
@@ -183,6 +230,7 @@ class CudaPathTracer final : public Integrator {
   DeviceArray<PendingShadow> shadows_;
   DeviceArray<uint8_t> alive_;
   DeviceArray<Rgb> sums_;
+  EventStages stages_;
 };
 
 }  // namespace

@@ -24,6 +24,18 @@ namespace {
 // RESTIR_GPU_DRY_RUN=1: the "GPU" side runs on the CPU (Backend::cpu, the host traversal), to
 // check on a machine without a GPU that every scene loads and every case runs (GPU time is scarce).
 bool g_dry_run = false;
+// RESTIR_GPU_VERBOSE=1 prints each comparison's numbers, failing or not; RESTIR_GPU_SEEDS=K stacks K
+// seeds (default 16) where the cases stack seeds: to see whether a difference shrinks with samples
+// (the backends' rounding tipping a few paths) or stays (a bias).
+//
+// The two backends draw the same random numbers, so their images differ only where rounding tips
+// a sampling or resampling choice (the device fuses multiply-adds). On the H200 (2026-12-04), 4
+// seeds were too few for the glossy teapots: one 8x8 block off by 2.9% (pt) and 3.1% (restir-pt,
+// random replay); with 16 seeds the worst blocks were 0.6% and 0.8%, and with 64 0.6%: noise
+// that shrinks with samples, so the cases stack 16. The dry run stacks 4: there the "GPU" is the
+// same CPU code (no fused multiply-adds, images nearly equal), and 16 would take 6 minutes of CI.
+bool g_verbose = false;
+int g_seeds = 16;
 Backend gpu_backend() { return g_dry_run ? Backend::cpu : Backend::cuda; }
 std::unique_ptr<RayQueries> gpu_queries(const Scene& scene) {
   if (g_dry_run) return std::make_unique<BvhQueries>(scene);
@@ -37,6 +49,17 @@ const std::vector<std::string>& test_scenes() {
                                              own_scene("teapot.pbrt"), own_scene("many-lights.pbrt"), own_scene("env-object.pbrt")};
   return s;
 }
+
+// Whether the 8x8-block rule applies to a scene. Not in many-lights: its generator scatters 600
+// emitter quads at the same height (y = 0.004), and where two of them overlap (differently bright),
+// a camera ray meets both at the same distance, so which one it sees depends on the traversal
+// order: Embree (the CPU backend) and the project's BVH (the CUDA backend and its host twin) choose
+// differently. Measured (bench probe, 2026-12-04): in block (80, 72) at 128x96, 6 of 1024 camera
+// rays hit another of two overlapping quads at the same t, and the block differs by 15.6% / 13.8% /
+// 12.3% with 4 / 16 / 64 seeds (pt on the H200) and by the same 15.0% between the CPU and the host
+// twin without a GPU (restir-di): a tie in the scene, not a sampling difference, so it does not
+// shrink. test_bvh checks that the two traversals agree on hit and distance there.
+bool blocks_comparable(const std::string& path) { return path.find("many-lights") == std::string::npos; }
 
 // The mean over the image of K seeds stacked (one image per seed, averaged).
 Image stacked(const Scene& scene, Options o, int seeds) {
@@ -57,8 +80,10 @@ void check_agree(const Image& cpu, const Image& gpu, bool blocks_too = true) {
   for (size_t i = 0; i < cpu.size(); ++i) a += luminance(cpu.pixels[i]), b += luminance(gpu.pixels[i]);
   CHECK(a > 0);
   CHECK(std::fabs(b - a) <= 0.005 * a);
-  if (!blocks_too) return;
+  if (g_verbose) MESSAGE("image mean: cuda / cpu - 1 = " << (b / a - 1));
+  if (!blocks_too && !g_verbose) return;
   size_t bad = 0, blocks = 0;
+  int worst_x = 0, worst_y = 0;
   double worst = 0;  // the largest relative block difference
   for (int by = 0; by + 8 <= cpu.height; by += 8)
     for (int bx = 0; bx + 8 <= cpu.width; bx += 8) {
@@ -67,11 +92,14 @@ void check_agree(const Image& cpu, const Image& gpu, bool blocks_too = true) {
         for (int x = bx; x < bx + 8; ++x) ca += luminance(cpu.at(x, y)), cb += luminance(gpu.at(x, y));
       ++blocks;
       bad += std::fabs(cb - ca) > 0.02 * ca + 1e-6;
-      worst = std::max(worst, std::fabs(cb - ca) / (ca + 1e-6));
+      if (std::fabs(cb - ca) / (ca + 1e-6) > worst) worst = std::fabs(cb - ca) / (ca + 1e-6), worst_x = bx, worst_y = by;
     }
   CAPTURE(blocks);
   CAPTURE(worst);
-  CHECK(bad == 0);
+  if (g_verbose)
+    MESSAGE("8x8 blocks: " << bad << " of " << blocks << " off by more than 2%; worst " << worst << " at (" << worst_x << ", " << worst_y
+                           << ")" << std::string(blocks_too ? "" : " (not checked)"));
+  if (blocks_too) CHECK(bad == 0);
 }
 
 }  // namespace
@@ -103,14 +131,14 @@ TEST_CASE("CUDA ray queries answer as the host traversal of the same BVH") {
   }
 }
 
-TEST_CASE("pt: CPU and CUDA renders agree (4 seeds stacked; mean 0.5%, 8x8 blocks 2%)") {
+TEST_CASE("pt: CPU and CUDA renders agree (16 seeds stacked; mean 0.5%, 8x8 blocks 2%)") {
   for (const std::string& path : test_scenes()) {
     CAPTURE(path);
     Scene scene = load_scene(path);
     Options o = options_for(scene, {"film.width=128", "film.height=96", "render.spp=16"});
-    const Image cpu = stacked(scene, o, 4);
+    const Image cpu = stacked(scene, o, g_seeds);
     o.render.backend = gpu_backend();
-    check_agree(cpu, stacked(scene, o, 4));
+    check_agree(cpu, stacked(scene, o, g_seeds), blocks_comparable(path));
   }
 }
 
@@ -143,14 +171,14 @@ TEST_CASE("pt: textures, point, sphere and environment lights, and a pixel's sam
   {
     Scene scene = load_scene(feature_scene());
     Options o = options_for(scene, {"film.width=128", "film.height=96", "render.spp=16"});
-    const Image cpu = stacked(scene, o, 4);
+    const Image cpu = stacked(scene, o, g_seeds);
     o.render.backend = gpu_backend();
-    check_agree(cpu, stacked(scene, o, 4));
+    check_agree(cpu, stacked(scene, o, g_seeds));
   }
-  // 512 x 512 x 5 spp = 1.31 M paths: two waves of 2^20, and 5 does not divide 2^20, so pixel
-  // 209715's samples are split between them (the per-pixel sums must add both parts, in order).
+  // 1024 x 1024 x 5 spp = 5.24 M paths: two waves of 2^22, and 5 does not divide 2^22, so pixel
+  // 838860's samples are split between them (the per-pixel sums must add both parts, in order).
   Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
-  Options o = options_for(scene, {"film.width=512", "film.height=512", "render.spp=5"});
+  Options o = options_for(scene, {"film.width=1024", "film.height=1024", "render.spp=5"});
   const Image cpu = render(scene, o).last;
   o.render.backend = gpu_backend();
   check_agree(cpu, render(scene, o).last);
@@ -187,8 +215,17 @@ TEST_CASE("an animated scene: after reset() at frame 3, frame 0 is drawn in fram
   std::vector<Hit> a(rays.size()), b(rays.size());
   host.intersect_batch(rays, a);
   queries->intersect_batch(rays, b);
-  size_t mismatch = 0;
-  for (size_t i = 0; i < rays.size(); ++i) mismatch += a[i].valid() != b[i].valid() || (a[i].valid() && a[i].prim != b[i].prim);
+  // As in the static scenes: the same hit or miss at the same distance. The primitive may differ
+  // where two faces meet or overlap at that distance (the device fuses multiply-adds), so it is
+  // counted, not checked; a BVH left in the old pose would move the distances of every ray that
+  // meets a moved object.
+  size_t mismatch = 0, other_prim = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    mismatch += a[i].valid() != b[i].valid() || (a[i].valid() && std::fabs(a[i].t - b[i].t) > 1e-4f * std::max(1.0f, a[i].t));
+    other_prim += a[i].valid() && b[i].valid() && a[i].prim != b[i].prim;
+  }
+  CAPTURE(other_prim);
+  if (g_verbose) MESSAGE("moved scene: " << mismatch << " hits differ, " << other_prim << " at another primitive");
   CHECK(mismatch <= rays.size() / 10000);
 }
 
@@ -208,17 +245,15 @@ MakeIntegrator gpu_restir_di() { return g_dry_run ? &make_host_twin_restir_di : 
 MakeIntegrator gpu_restir_gi() { return g_dry_run ? &make_host_twin_restir_gi : &make_cuda_restir_gi; }
 MakeIntegrator gpu_restir_pt() { return g_dry_run ? &make_host_twin_restir_pt : &make_cuda_restir_pt; }
 
-// The two backends draw the same random numbers, so their images differ only where rounding
-// tips a resampling choice (e.g. FMA on the GPU). In many-lights, with 2400 small, bright emitters,
-// one such pixel moves its 8x8 block by up to 25% (measured between the CPU and the host twin,
-// 4 seeds): there the image mean alone is compared; the other scenes take the issue's full rule.
-TEST_CASE("restir-di: CPU and CUDA renders agree (4 seeds stacked, 4 spp, 3 frames of reuse)") {
+// Many-lights takes the image mean alone (blocks_comparable: overlapping emitter quads); the other
+// scenes take the issue's full rule.
+TEST_CASE("restir-di: CPU and CUDA renders agree (16 seeds stacked, 4 spp, 3 frames of reuse)") {
   for (const std::string& path : test_scenes()) {
     CAPTURE(path);
     Scene scene = load_scene(path);
     const Options o = options_for(scene, {"integrator=restir-di", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3"});
-    const bool blocks = path.find("many-lights") == std::string::npos;
-    check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_di), frames_stacked(scene, o, 4, gpu_restir_di()), blocks);
+    check_agree(frames_stacked(scene, o, g_seeds, &make_cpu_restir_di), frames_stacked(scene, o, g_seeds, gpu_restir_di()),
+                blocks_comparable(path));
   }
 }
 
@@ -234,27 +269,28 @@ TEST_CASE("restir-di: render.backend = cuda through the renderer, textures and e
   check_agree(render(scene, o).last, gpu_view);
 }
 
-TEST_CASE("restir-gi: CPU and CUDA renders agree (4 seeds stacked, 4 spp, 3 frames of reuse)") {
+TEST_CASE("restir-gi: CPU and CUDA renders agree (16 seeds stacked, 4 spp, 3 frames of reuse)") {
   for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")}) {
     CAPTURE(path);
     Scene scene = load_scene(path);
     const Options o = options_for(scene, {"integrator=restir-gi", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
                                           "path.max_depth=5"});
-    check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_gi), frames_stacked(scene, o, 4, gpu_restir_gi()));
+    check_agree(frames_stacked(scene, o, g_seeds, &make_cpu_restir_gi), frames_stacked(scene, o, g_seeds, gpu_restir_gi()));
   }
 }
 
 // The issue's scenes and rule, each shift; the teapot scene at depth 5 with ReSTIR DI for the direct
 // light too (pt.direct = restir-di).
-TEST_CASE("restir-pt: CPU and CUDA renders agree, each shift (4 seeds stacked, 4 spp, 3 frames of reuse)") {
+TEST_CASE("restir-pt: CPU and CUDA renders agree, each shift (16 seeds stacked, 4 spp, 3 frames of reuse)") {
   for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")})
     for (const char* shift : {"pt.shift=hybrid", "pt.shift=reconnection", "pt.shift=random-replay"}) {
+      const std::string shift_name = shift;
       CAPTURE(path);
-      CAPTURE(shift);
+      CAPTURE(shift_name);
       Scene scene = load_scene(path);
       const Options o =
           options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3", shift});
-      check_agree(frames_stacked(scene, o, 4, &make_cpu_restir_pt), frames_stacked(scene, o, 4, gpu_restir_pt()));
+      check_agree(frames_stacked(scene, o, g_seeds, &make_cpu_restir_pt), frames_stacked(scene, o, g_seeds, gpu_restir_pt()));
     }
   Scene scene = load_scene(own_scene("teapot.pbrt"));
   Options o = options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
@@ -279,6 +315,10 @@ TEST_CASE("switching render.backend in a running FrameRenderer (the viewer's pat
 int main(int argc, char** argv) {
   const char* dry = std::getenv("RESTIR_GPU_DRY_RUN");
   g_dry_run = dry && std::string(dry) == "1";
+  const char* verbose = std::getenv("RESTIR_GPU_VERBOSE");
+  g_verbose = verbose && std::string(verbose) == "1";
+  if (g_dry_run) g_seeds = 4;
+  if (const char* k = std::getenv("RESTIR_GPU_SEEDS")) g_seeds = std::max(1, std::atoi(k));
   if (g_dry_run) {
     std::printf("restir_gpu_tests: DRY RUN on the CPU (RESTIR_GPU_DRY_RUN=1): checks the cases, not the GPU\n");
   } else if (const std::string why = cuda_unavailable_reason(); !why.empty()) {
