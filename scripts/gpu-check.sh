@@ -120,7 +120,7 @@ case "${1:-}" in
     done
     cp -r "$ROOT/../shared/scenes/cornell-box" "$ROOT/../shared/scenes/veach-mis" "$ROOT/../shared/scenes/envmaps" "$b/shared/scenes/"
     cp -r "$ROOT/scenes/." "$b/repo/scenes/"
-    git -C "$ROOT" rev-parse --short HEAD >"$b/COMMIT" 2>/dev/null || echo unknown >"$b/COMMIT"
+    git -C "$ROOT" describe --always --dirty >"$b/COMMIT" 2>/dev/null || echo unknown >"$b/COMMIT"
     tar -C "$stage" -cJf "$out.tmp" restir-gpu
     mv "$out.tmp" "$out"
     echo "bundle: $out ($(du -h "$out" | cut -f1))"
