@@ -64,7 +64,7 @@ run_checks() {
       --di-scene "$SCENES_OWN/scenes/many-lights.pbrt" --gi-scene "$SCENES_OWN/scenes/teapot.pbrt" \
       --pt-scene "$SCENES_OWN/scenes/teapot.pbrt" 2>&1 |
       grep -v 'Film "filename" ignored' | tee -a "$results" || true
-    # Where the GPU frame's time goes: each stage's device time (synchronous launches), 1920x1080.
+    # Where the GPU frame's time goes: each stage's device time, 1920x1080 (restir render --timings).
     if [ -x "$bin/restir" ]; then
       local integrator scene
       for integrator in restir-di restir-pt pt; do
