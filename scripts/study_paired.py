@@ -32,8 +32,8 @@ def key_of(r, key):
 def values(rows, key, metric):
     """(scene, KEY value) -> seed -> metric at the last frame (x ms_median for METRIC*ms)."""
     out = defaultdict(dict)
+    m, timed = (metric[:-3], True) if metric.endswith("*ms") else (metric, False)
     for r in rows:
-        m, timed = (metric[:-3], True) if metric.endswith("*ms") else (metric, False)
         if r.get(m, "") in ("", "nan"):
             continue
         v = float(r[m]) * (float(r["ms_median"]) if timed else 1.0)
