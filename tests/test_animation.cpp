@@ -212,13 +212,16 @@ TEST_SUITE("animation") {
     // reprojected pixel lies from where this point was then (p_previous), reprojecting with the
     // motion vector or by the camera alone. Medians over the pixels.
     std::vector<float> with_mv, camera_only;
-    for (const GSurface& cur : g6.pixels) {
-      if (!cur.valid || length(cur.p_previous - cur.p) < 1e-4f) continue;  // static geometry
+    REQUIRE(g6.motion.size() == g6.pixels.size());  // an animated scene: every pixel's motion
+    for (size_t i = 0; i < g6.pixels.size(); ++i) {
+      const GSurface& cur = g6.pixels[i];
+      const Vec3 p_previous = g6.motion[i].p_previous;
+      if (!cur.valid || length(p_previous - cur.p) < 1e-4f) continue;  // static geometry
       auto miss = [&](Vec3 p) {
         int x, y;
-        return reproject(cam, p, x, y) && g5.at(x, y).valid ? length(g5.at(x, y).p - cur.p_previous) : 1e9f;
+        return reproject(cam, p, x, y) && g5.at(x, y).valid ? length(g5.at(x, y).p - p_previous) : 1e9f;
       };
-      with_mv.push_back(miss(cur.p_previous));
+      with_mv.push_back(miss(p_previous));
       camera_only.push_back(miss(cur.p));
     }
     auto median = [](std::vector<float> v) {

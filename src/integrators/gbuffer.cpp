@@ -19,8 +19,10 @@ std::vector<Mat4> motion_back(const Scene& scene, int frame) {
   return back;
 }
 
-void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s, const std::vector<Mat4>* back) {
-  fill_gsurface(ctx.accel.scene_view(), ctx.lights.view(), ray, hit, s, back ? back->data() : nullptr, back ? uint32_t(back->size()) : 0);
+void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s, const std::vector<Mat4>* back,
+                   GMotion* motion) {
+  fill_gsurface(ctx.accel.scene_view(), ctx.lights.view(), ray, hit, s, back ? back->data() : nullptr, back ? uint32_t(back->size()) : 0,
+                motion);
 }
 
 // The primary hits of a frame: camera rays tile by tile (parallel_for_tiles' 16x16 pixels, one
@@ -35,6 +37,11 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
   g.height = camera.height();
   g.pixels.resize(size_t(g.width) * size_t(g.height));  // no clearing: fill_gsurface writes every entry
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
+  // Motion only where something can move (GBuffer::motion_at stands in for it elsewhere).
+  if (back.empty())
+    g.motion.clear();
+  else
+    g.motion.resize(g.pixels.size());
   parallel_for_tiles(g.width, g.height, [&](int x0, int y0, int x1, int y1) {
     std::array<Ray, kPixelTile * kPixelTile> rays;
     std::array<Hit, kPixelTile * kPixelTile> hits;
@@ -44,8 +51,10 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
     ctx.accel.intersect(std::span<const Ray>(rays.data(), n), std::span<Hit>(hits.data(), n), true);
     n = 0;
     for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x, ++n)
-        fill_gsurface(ctx, rays[n], hits[n].valid() ? &hits[n] : nullptr, g.pixels[size_t(y) * size_t(g.width) + size_t(x)], &back);
+      for (int x = x0; x < x1; ++x, ++n) {
+        const size_t i = size_t(y) * size_t(g.width) + size_t(x);
+        fill_gsurface(ctx, rays[n], hits[n].valid() ? &hits[n] : nullptr, g.pixels[i], &back, back.empty() ? nullptr : &g.motion[i]);
+      }
   });
 }
 

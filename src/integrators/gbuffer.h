@@ -21,9 +21,6 @@ struct GSurface {
   // Radiance reaching the camera along the primary ray from what it met first: the emission of
   // the hit surface toward the camera (valid), or the environment's (the ray escaped).
   Rgb le{0};
-  // Where this point and its shading normal were one frame earlier: moved back with its object's
-  // animation (the motion vector of an animated scene); p and ns for static geometry.
-  Vec3 p_previous, ns_previous;
 
   // The shading frame around ns. Rebuilt where it is used rather than stored: the same bits as
   // Frame::from_normal(ns) at the hit, and 36 bytes less per pixel in every pass that reads
@@ -31,18 +28,36 @@ struct GSurface {
   RESTIR_HD Frame frame() const { return Frame::from_normal(ns); }
 };
 
+// Where a G-buffer point and its shading normal were one frame earlier: moved back with its
+// object's animation (the motion vector of an animated scene); p and ns for static geometry. Kept
+// beside the surfaces, not in them: only temporal reuse and SSR's history read it, and the 24 bytes
+// made every GSurface that the spatial pass fetches from a neighbour larger (issue 9: 148 -> 124
+// bytes; padding it by 64 bytes had cost DI's spatial pass 4-10%).
+struct GMotion {
+  Vec3 p_previous, ns_previous;
+};
+
 struct GBuffer {
   int width = 0, height = 0;
   std::vector<GSurface> pixels;
+  // One per pixel in an animated scene (build_gbuffer fills it); empty in a static one, where
+  // each point's previous position is its own (motion_at).
+  std::vector<GMotion> motion;
   const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+  GMotion motion_at(int x, int y) const {
+    const size_t i = size_t(y) * size_t(width) + size_t(x);
+    return motion.empty() ? GMotion{pixels[i].p, pixels[i].ns} : motion[i];
+  }
 };
 
 // The G-buffer entry of a primary ray and its closest hit (null: it escaped), over the
 // device-shaped views (the CUDA backend's too). back[a] (back_count of them, one per scene
-// animation; may be null) maps a point of animation a's objects to where it was a frame earlier.
+// animation; may be null) maps a point of animation a's objects to where it was a frame earlier;
+// the point's motion goes to *motion where that is not null.
 RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& lights, const Ray& ray, const Hit* hit, GSurface& s,
-                                    const Mat4* back, uint32_t back_count) {
+                                    const Mat4* back, uint32_t back_count, GMotion* motion = nullptr) {
   s = GSurface{};
+  if (motion) *motion = GMotion{};
   if (!hit) {
     s.le = lights.environment_radiance(ray.d);
     return;
@@ -58,21 +73,23 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
   s.bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
   const uint32_t e = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
   if (e != kNoEmitter) s.le = lights.emitted(e, si.ng, s.wo);
-  s.p_previous = s.p;
-  s.ns_previous = s.ns;
+  if (!motion) return;
+  motion->p_previous = s.p;
+  motion->ns_previous = s.ns;
   const int a = si.is_sphere ? scene.spheres[si.prim].animation : scene.meshes[si.geom].animation;
   if (back && a >= 0 && uint32_t(a) < back_count) {
-    s.p_previous = back[a].apply_point(s.p);
-    s.ns_previous = normalize(back[a].apply_vector(s.ns));  // rigid: the rotation part
+    motion->p_previous = back[a].apply_point(s.p);
+    motion->ns_previous = normalize(back[a].apply_vector(s.ns));  // rigid: the rotation part
   }
 }
 // The same on the context's scene and lights.
 void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s,
-                   const std::vector<Mat4>* back = nullptr);
+                   const std::vector<Mat4>* back = nullptr, GMotion* motion = nullptr);
 // Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
 std::vector<Mat4> motion_back(const Scene& scene, int frame);
 
-// One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter).
+// One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter);
+// g.motion filled in a scene with animations, emptied in one without.
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);
 
 // Pixel of the previous frame that saw world point p; false when off screen or behind the camera.

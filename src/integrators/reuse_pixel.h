@@ -19,13 +19,18 @@ namespace rl {
 
 inline constexpr int kMaxReuseNeighbors = 64;
 
-// A frame's G-buffer as flat memory.
+// A frame's G-buffer as flat memory. motion: GBuffer::motion, null in a static scene.
 struct GBufferView {
   const GSurface* pixels = nullptr;
   int width = 0, height = 0;
+  const GMotion* motion = nullptr;
   RESTIR_HD const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+  RESTIR_HD GMotion motion_at(int x, int y) const {
+    const size_t i = size_t(y) * size_t(width) + size_t(x);
+    return motion ? motion[i] : GMotion{pixels[i].p, pixels[i].ns};
+  }
 };
-inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height}; }
+inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height, g.motion.empty() ? nullptr : g.motion.data()}; }
 
 // Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).
 struct ReuseDebugView {
@@ -95,15 +100,16 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
   int px, py;
   // Motion vector: where the point was a frame earlier (its object's animation), seen by the
   // previous camera.
-  if (!reproject(previous_camera, cur.p_previous, px, py)) {
+  const GMotion motion = g.motion_at(x, y);
+  if (!reproject(previous_camera, motion.p_previous, px, py)) {
     ++dbg.rejected[p];
     return;
   }
   const GSurface& prev = previous_g.at(px, py);
   GSurface expected = cur;  // the current point as the previous camera saw it
-  expected.p = cur.p_previous;
-  expected.ns = cur.ns_previous;
-  expected.depth = length(cur.p_previous - previous_camera.position());
+  expected.p = motion.p_previous;
+  expected.ns = motion.ns_previous;
+  expected.depth = length(motion.p_previous - previous_camera.position());
   // Depth / normal rejection only when asked for (*.similarity_rejection), as in the spatial pass.
   if (!prev.valid || (rp.similarity_rejection && !similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold))) {
     ++dbg.rejected[p];

@@ -85,13 +85,17 @@ class Ssr final : public Integrator {
     g_.height = h;
     g_.pixels.resize(rays_.size());
     const std::vector<Mat4> back = motion_back(ctx_.scene, frame.index);  // motion vectors (temporal)
+    if (back.empty())
+      g_.motion.clear();
+    else
+      g_.motion.resize(rays_.size());
     parallel_for(h, [&](int y) {
       const size_t row = size_t(y) * size_t(w);
       for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
       const auto rays = std::span<const Ray>(rays_).subspan(row, size_t(w));
       ctx_.accel.intersect(rays, std::span(hits_).subspan(row, size_t(w)), true);
       for (size_t i = row; i < row + size_t(w); ++i)
-        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back);
+        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back, back.empty() ? nullptr : &g_.motion[i]);
     });
     hiz_.build(*frame.camera, g_);
   }
@@ -231,7 +235,8 @@ class Ssr final : public Integrator {
         const Vec3 cam = frame.camera->position();
         const Vec3 view = frame.camera->generate_ray({float(x) + 0.5f, float(y) + 0.5f}).d;
         const Vec3 virtual_point = cam + view * (length(sf.p - cam) + reflection_distance(p));
-        const Vec3 moved = sf.p_previous + (virtual_point - sf.p);  // with the reflector's own motion
+        const GMotion motion = g_.motion_at(x, y);
+        const Vec3 moved = motion.p_previous + (virtual_point - sf.p);  // with the reflector's own motion
         // The history there, filtered bilinearly over the previous pixels that show this reflector
         // (a nearest-pixel fetch under motion aliases: its choice of pixel jumps with the jitter).
         Vec2 r;
@@ -245,8 +250,8 @@ class Ssr final : public Integrator {
           if (hx < 0 || hy < 0 || hx >= g_.width || hy >= g_.height) continue;
           const size_t q = size_t(hy) * size_t(g_.width) + size_t(hx);
           const GSurface& before = previous_g_.pixels[q];
-          if (!reflective(before) || dot(before.ns, sf.ns_previous) < std::cos(kResolveNormalDeg * kPi / 180.0f) ||
-              std::fabs(dot(before.p - sf.p_previous, sf.ns_previous)) > 0.02f * before.depth)  // on this reflector's plane
+          if (!reflective(before) || dot(before.ns, motion.ns_previous) < std::cos(kResolveNormalDeg * kPi / 180.0f) ||
+              std::fabs(dot(before.p - motion.p_previous, motion.ns_previous)) > 0.02f * before.depth)  // on this reflector's plane
             continue;
           const float w = ((k & 1) ? fx - float(x0) : 1 - (fx - float(x0))) * ((k >> 1) ? fy - float(y0) : 1 - (fy - float(y0)));
           history += history_[q] * w;
