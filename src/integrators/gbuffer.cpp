@@ -33,15 +33,8 @@ void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSu
 // are fixed, so the G-buffer does not depend on the thread count. (The wavefront path tracer's
 // camera rays have gone through the same packets since issue 9.)
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
-  g.width = camera.width();
-  g.height = camera.height();
-  g.pixels.resize(size_t(g.width) * size_t(g.height));  // no clearing: fill_gsurface writes every entry
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
-  // Motion only where something can move (GBuffer::motion_at stands in for it elsewhere).
-  if (back.empty())
-    g.motion.clear();
-  else
-    g.motion.resize(g.pixels.size());
+  g.resize(camera.width(), camera.height(), !back.empty());  // motion only where something can move
   parallel_for_tiles(g.width, g.height, [&](int x0, int y0, int x1, int y1) {
     std::array<Ray, kPixelTile * kPixelTile> rays;
     std::array<Hit, kPixelTile * kPixelTile> hits;
@@ -53,7 +46,7 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x, ++n) {
         const size_t i = size_t(y) * size_t(g.width) + size_t(x);
-        fill_gsurface(ctx, rays[n], hits[n].valid() ? &hits[n] : nullptr, g.pixels[i], &back, back.empty() ? nullptr : &g.motion[i]);
+        fill_gsurface(ctx, rays[n], hits[n].valid() ? &hits[n] : nullptr, g.pixels[i], &back, g.motion_slot(i));
       }
   });
 }

@@ -36,6 +36,10 @@ struct GSurface {
 struct GMotion {
   Vec3 p_previous, ns_previous;
 };
+// Pixel i's motion: motion[i], or where there is no motion array (a static scene) the point's own.
+RESTIR_HD inline GMotion motion_of(const GSurface* pixels, const GMotion* motion, size_t i) {
+  return motion ? motion[i] : GMotion{pixels[i].p, pixels[i].ns};
+}
 
 struct GBuffer {
   int width = 0, height = 0;
@@ -43,11 +47,21 @@ struct GBuffer {
   // One per pixel in an animated scene (build_gbuffer fills it); empty in a static one, where
   // each point's previous position is its own (motion_at).
   std::vector<GMotion> motion;
-  const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
-  GMotion motion_at(int x, int y) const {
-    const size_t i = size_t(y) * size_t(width) + size_t(x);
-    return motion.empty() ? GMotion{pixels[i].p, pixels[i].ns} : motion[i];
+  // Sized for w x h pixels, with a motion array when `animated` (no clearing: fill_gsurface writes
+  // every entry).
+  void resize(int w, int h, bool animated) {
+    width = w, height = h;
+    pixels.resize(size_t(w) * size_t(h));
+    if (animated)
+      motion.resize(pixels.size());
+    else
+      motion.clear();
   }
+  const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+  // The motion array, null without one (motion_of's convention); where fill_gsurface writes pixel i's.
+  const GMotion* motion_data() const { return motion.empty() ? nullptr : motion.data(); }
+  GMotion* motion_slot(size_t i) { return motion.empty() ? nullptr : &motion[i]; }
+  GMotion motion_at(int x, int y) const { return motion_of(pixels.data(), motion_data(), size_t(y) * size_t(width) + size_t(x)); }
 };
 
 // The G-buffer entry of a primary ray and its closest hit (null: it escaped), over the

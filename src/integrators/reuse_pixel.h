@@ -25,12 +25,9 @@ struct GBufferView {
   int width = 0, height = 0;
   const GMotion* motion = nullptr;
   RESTIR_HD const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
-  RESTIR_HD GMotion motion_at(int x, int y) const {
-    const size_t i = size_t(y) * size_t(width) + size_t(x);
-    return motion ? motion[i] : GMotion{pixels[i].p, pixels[i].ns};
-  }
+  RESTIR_HD GMotion motion_at(int x, int y) const { return motion_of(pixels, motion, size_t(y) * size_t(width) + size_t(x)); }
 };
-inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height, g.motion.empty() ? nullptr : g.motion.data()}; }
+inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height, g.motion_data()}; }
 
 // Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).
 struct ReuseDebugView {

@@ -81,21 +81,15 @@ class Ssr final : public Integrator {
     const int w = frame.camera->width(), h = frame.camera->height();
     rays_.resize(size_t(w) * size_t(h));
     hits_.resize(rays_.size());
-    g_.width = w;
-    g_.height = h;
-    g_.pixels.resize(rays_.size());
     const std::vector<Mat4> back = motion_back(ctx_.scene, frame.index);  // motion vectors (temporal)
-    if (back.empty())
-      g_.motion.clear();
-    else
-      g_.motion.resize(rays_.size());
+    g_.resize(w, h, !back.empty());
     parallel_for(h, [&](int y) {
       const size_t row = size_t(y) * size_t(w);
       for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
       const auto rays = std::span<const Ray>(rays_).subspan(row, size_t(w));
       ctx_.accel.intersect(rays, std::span(hits_).subspan(row, size_t(w)), true);
       for (size_t i = row; i < row + size_t(w); ++i)
-        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back, back.empty() ? nullptr : &g_.motion[i]);
+        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back, g_.motion_slot(i));
     });
     hiz_.build(*frame.camera, g_);
   }
