@@ -5,6 +5,7 @@
 #include <set>
 #include <unistd.h>
 
+#include "integrators/path_kernel.h"
 #include "integrators/pixel_sampler.h"
 #include "scene/camera.h"
 
@@ -111,6 +112,69 @@ TEST_SUITE("pixel_sampler") {
 }
 
 TEST_SUITE("camera") {
+  TEST_CASE("generate_ray: the precomputed raster map is pbrt's raster -> screen -> camera -> world") {
+    // The camera folds the map into origin + x dx + y dy (issue 9); the direction must be the
+    // one pbrt's formula gives, landscape and portrait, and with a mirrored (Scale -1 1 1) camera.
+    for (bool mirrored : {false, true})
+      for (auto [w, h] : {std::pair{64, 32}, std::pair{30, 90}}) {
+        CameraKey key;
+        REQUIRE(look_at({1, 2, 3}, {0.2f, -0.1f, 0}, {0, 1, 0}, key.camera_from_world));
+        if (mirrored)
+          for (int c = 0; c < 4; ++c) key.camera_from_world.m[0][c] = -key.camera_from_world.m[0][c];
+        key.fov_degrees = 55;
+        const PerspectiveCamera cam(key, w, h);
+        Mat4 world_from_camera;
+        REQUIRE(key.camera_from_world.inverse(world_from_camera));
+        const float t = std::tan(55.0f * 0.5f * kPi / 180), ratio = float(w) / float(h);
+        const float sx = ratio > 1 ? ratio : 1, sy = ratio > 1 ? 1 : 1 / ratio;
+        for (Vec2 px : {Vec2{0, 0}, Vec2{float(w), float(h)}, Vec2{0.5f, float(h) - 3.25f}, Vec2{float(w) * 0.5f, float(h) * 0.5f}}) {
+          const Vec3 cam_dir{(px.x / float(w) * 2 - 1) * sx * t, (1 - px.y / float(h) * 2) * sy * t, 1};
+          const Vec3 expect = normalize(world_from_camera.apply_vector(cam_dir));
+          const Ray r = cam.generate_ray(px);
+          CAPTURE(mirrored);
+          CAPTURE(w);
+          CAPTURE(px.x);
+          CHECK(length(r.d - expect) < 1e-6f);
+          CHECK(length(r.o - world_from_camera.apply_point(Vec3(0))) < 1e-5f);
+        }
+      }
+  }
+
+  TEST_CASE("camera_ray seeds the pixel's stream wherever the pattern or the filter draws from it") {
+    // camera_ray skips seeding the stream (and the Halton pixel hash) where nothing reads it; the
+    // rays must be those of the version that always seeds both, for every pattern and filter.
+    CameraKey key;
+    REQUIRE(look_at({0, 0, -3}, {0, 0, 0}, {0, 1, 0}, key.camera_from_world));
+    key.fov_degrees = 45;
+    const PerspectiveCamera cam(key, 17, 11);
+    int differing_pixels = 0;
+    for (SamplePattern pattern : {SamplePattern::center, SamplePattern::random, SamplePattern::stratified, SamplePattern::halton,
+                                  SamplePattern::msaa})
+      for (PixelFilter filter : {PixelFilter::box, PixelFilter::triangle, PixelFilter::gaussian})
+        for (int spp : {1, 3, 4}) {
+          const CameraSampling cs{7, spp, pattern, filter, 1.5f};
+          for (int frame : {0, 5})
+            for (int y = 0; y < 11; y += 2)
+              for (int x = 0; x < 17; x += 3)
+                for (int s = 0; s < spp; ++s) {
+                  const uint32_t pixel = uint32_t(y * 17 + x);
+                  Pcg32 rng = make_rng(pixel, uint32_t(frame), RngPass::camera, cs.seed, uint32_t(s));
+                  const Vec2 u = pattern_sample(pattern, uint64_t(frame) * uint64_t(spp) + uint64_t(s), spp,
+                                                mix64(hash_combine(cs.seed, pixel)), rng);
+                  const Vec2 o = filter_offset(filter, cs.filter_radius, u, rng);
+                  const Ray expect = cam.generate_ray({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y});
+                  const Ray got = camera_ray(cs, cam, x, y, frame, s);
+                  CAPTURE(int(pattern));
+                  CAPTURE(int(filter));
+                  REQUIRE(got.d.x == expect.d.x);
+                  REQUIRE(got.d.y == expect.d.y);
+                  REQUIRE(got.d.z == expect.d.z);
+                  differing_pixels += got.d.x != camera_ray(cs, cam, 0, 0, frame, s).d.x;
+                }
+        }
+    CHECK(differing_pixels > 0);
+  }
+
   TEST_CASE("camera path: keys are spread over the frames and interpolated") {
     namespace fs = std::filesystem;
     fs::path p = fs::temp_directory_path() / ("restir-cam-" + std::to_string(::getpid()) + ".json");

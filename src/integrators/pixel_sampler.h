@@ -78,6 +78,11 @@ RESTIR_HD inline Vec2 pattern_sample(SamplePattern pattern, uint64_t index, int 
   return {0.5f, 0.5f};
 }
 
+// Whether pattern_sample or filter_offset draws from its stream (camera_ray seeds one only then).
+RESTIR_HD inline bool sampling_uses_rng(SamplePattern pattern, PixelFilter filter) {
+  return pattern == SamplePattern::random || pattern == SamplePattern::stratified || filter == PixelFilter::gaussian;
+}
+
 RESTIR_HD inline Vec2 filter_offset(PixelFilter filter, float radius, Vec2 u, Pcg32& rng) {
   switch (filter) {
     case PixelFilter::box:
