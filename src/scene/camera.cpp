@@ -55,6 +55,13 @@ PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height
     sx_ = 1;
     sy_ = 1 / ratio;
   }
+  // Screen x = (raster.x / width * 2 - 1) sx, y = (1 - raster.y / height * 2) sy; camera-space
+  // direction (x tan, y tan, 1); world direction = its columns of world_from_camera (see generate_ray).
+  const Vec3 c0 = world_from_camera_.apply_vector(Vec3(1, 0, 0)), c1 = world_from_camera_.apply_vector(Vec3(0, 1, 0)),
+             c2 = world_from_camera_.apply_vector(Vec3(0, 0, 1));
+  dir_dx_ = c0 * (2 * sx_ * tan_half_ / float(width));
+  dir_dy_ = c1 * (-2 * sy_ * tan_half_ / float(height));
+  origin_dir_ = c0 * (-sx_ * tan_half_) + c1 * (sy_ * tan_half_) + c2;
 }
 
 namespace {

@@ -13,13 +13,13 @@ class PerspectiveCamera {
   PerspectiveCamera(const CameraKey& key, int width, int height);
   // Primary ray through the raster position (x right, y down, in pixels; (0,0) is the top-left corner).
   RESTIR_HD Ray generate_ray(Vec2 raster) const {
-    // Raster -> screen: x in [-sx, sx] left to right, y in [sy, -sy] top to bottom (pbrt's raster-from-screen).
-    const float sx = (raster.x / float(width_) * 2 - 1) * sx_;
-    const float sy = (1 - raster.y / float(height_) * 2) * sy_;
-    const Vec3 dir_cam = normalize(Vec3{sx * tan_half_, sy * tan_half_, 1});
+    // Raster -> screen -> camera -> world is linear in the raster position up to the final
+    // normalization (pbrt's raster-from-screen, then the camera's rotation), so the constructor
+    // folds it into origin_dir_ + x * dir_dx_ + y * dir_dy_: one normalization and no division
+    // per ray (the camera ray was ~12% of the path tracer's samples, issue 9).
     Ray r;
     r.o = position_;
-    r.d = normalize(world_from_camera_.apply_vector(dir_cam));
+    r.d = normalize(origin_dir_ + dir_dx_ * raster.x + dir_dy_ * raster.y);
     return r;
   }
   // Raster position of a world point; false when it is behind the camera or off the film.
@@ -38,6 +38,7 @@ class PerspectiveCamera {
  private:
   Mat4 world_from_camera_, camera_from_world_;
   Vec3 position_, forward_;
+  Vec3 origin_dir_, dir_dx_, dir_dy_;  // world direction (unnormalized) of raster (0,0) and per pixel in x, y
   float tan_half_ = 1, aspect_ = 1;  // screen window [-aspect, aspect] x [-1, 1] (or swapped)
   float sx_ = 1, sy_ = 1;            // screen half extents
   int width_, height_;
