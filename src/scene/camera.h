@@ -14,7 +14,7 @@ class PerspectiveCamera {
   // Primary ray through the raster position (x right, y down, in pixels; (0,0) is the top-left corner).
   RESTIR_HD Ray generate_ray(Vec2 raster) const {
     // Raster -> screen -> camera -> world is linear in the raster position up to the final
-    // normalization (pbrt's raster-from-screen, then the camera's rotation), so the constructor
+    // normalization (pbrt's raster-from-screen, then the linear part of world_from_camera), so the constructor
     // folds it into origin_dir_ + x * dir_dx_ + y * dir_dy_: one normalization and no division
     // per ray (the camera ray was ~12% of the path tracer's samples, issue 9).
     Ray r;
