@@ -279,17 +279,18 @@ TEST_CASE("restir-di: render.backend = cuda through the renderer, textures and e
 // full noise: with RR on, 4 seeds left one block at 2.2% and 16 seeds one at 2.1%. So the full
 // rule runs without RR, and the renders with RR (the default) take the image-mean rule.
 TEST_CASE("restir-gi: CPU and CUDA renders agree (16 seeds stacked, 4 spp, 3 frames of reuse)") {
-  for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")})
+  for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")}) {
+    CAPTURE(path);
+    Scene scene = load_scene(path);
     for (bool roulette : {false, true}) {
-      CAPTURE(path);
       CAPTURE(roulette);
-      Scene scene = load_scene(path);
       Options o = options_for(scene, {"integrator=restir-gi", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
                                       "path.max_depth=5"});
       o.path.russian_roulette = roulette;
       check_agree(frames_stacked(scene, o, g_seeds, &make_cpu_restir_gi), frames_stacked(scene, o, g_seeds, gpu_restir_gi()),
                   /*blocks_too=*/!roulette);
     }
+  }
 }
 
 // The issue's scenes and rule, each shift; the teapot scene at depth 5 with ReSTIR DI for the direct
