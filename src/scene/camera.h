@@ -39,8 +39,8 @@ class PerspectiveCamera {
   Mat4 world_from_camera_, camera_from_world_;
   Vec3 position_, forward_;
   Vec3 origin_dir_, dir_dx_, dir_dy_;  // world direction (unnormalized) of raster (0,0) and per pixel in x, y
-  float tan_half_ = 1, aspect_ = 1;  // screen window [-aspect, aspect] x [-1, 1] (or swapped)
-  float sx_ = 1, sy_ = 1;            // screen half extents
+  float tan_half_ = 1;    // tan(fov / 2)
+  float sx_ = 1, sy_ = 1;  // screen half extents: the window [-sx, sx] x [-sy, sy] (pbrt's screen window)
   int width_, height_;
 };
 
