@@ -248,7 +248,63 @@ TEST_SUITE("restir_pt") {
   }
 }
 
+namespace {
+
+// Bit-for-bit equality of the fields a reservoir's paths are made of (padding left out).
+bool same_bits(const PathSample& a, const PathSample& b) {
+  auto v3 = [](Vec3 x, Vec3 y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
+  return a.seed == b.seed && a.length == b.length && a.nee == b.nee && a.rc == b.rc && v3(a.rc_position, b.rc_position) &&
+         v3(a.rc_normal, b.rc_normal) && a.rc_emitter == b.rc_emitter && a.rc_material == b.rc_material &&
+         v3(a.rc_reflectance, b.rc_reflectance) && v3(a.rc_shading_normal, b.rc_shading_normal) && v3(a.rc_out, b.rc_out) &&
+         v3(a.rc_suffix, b.rc_suffix) && a.rc_mis == b.rc_mis && a.rc_tail_light_pdf == b.rc_tail_light_pdf &&
+         a.rc_tail_measure == b.rc_tail_measure && v3(a.rc_previous, b.rc_previous) && a.replay_pdf == b.replay_pdf &&
+         v3(a.contribution, b.contribution);
+}
+
+}  // namespace
+
 TEST_SUITE("restir_pt") {
+  // initial_path_reservoir and shift_path are RL_WIDEST (core/widest.h): on an AVX2 machine they run
+  // a copy compiled for x86-64-v3; initial_path_reservoir_in / shift_path_in called from here are
+  // this file's baseline (SSE2) compile of the same code. The two must agree bit for bit, or the
+  // image would depend on the machine.
+  TEST_CASE("the widest-ISA copies of the path walk and the shift compute the baseline's floats") {
+    Fixture fx(own_scene("teapot.pbrt"));
+    const PathWorld world = path_world(*fx.ctx);
+    const AccelTracer tracer{fx.accel.get()};
+    Pcg32 rng(77);
+    int walks = 0, shifts = 0;
+    for (ShiftMapping shift : {ShiftMapping::reconnection, ShiftMapping::random_replay, ShiftMapping::hybrid}) {
+      PathSettings ps;
+      ps.shift = shift;
+      ps.max_depth = 5;
+      for (int it = 0; it < 300; ++it) {
+        const GSurface& a = fx.random_surface(rng);
+        const GSurface& b = fx.random_surface(rng);
+        if (!a.valid || !b.valid) continue;
+        const uint64_t seed = rng.next_u32();
+        const PathReservoir wide = initial_path_reservoir(world, *fx.accel, ps, a, seed, 2);
+        const PathReservoir base = initial_path_reservoir_in(world, tracer, ps, a, seed, 2);
+        CHECK(same_bits(wide.sample, base.sample));
+        CHECK((wide.target == base.target && wide.weight_sum == base.weight_sum && wide.ucw == base.ucw &&
+               wide.confidence == base.confidence));
+        ++walks;
+        if (!base.has_sample()) continue;
+        PathSample to_wide, to_base;
+        float j_wide = 0, j_base = 0;
+        const bool ok_wide = shift_path(world, *fx.accel, ps, base.sample, b, to_wide, j_wide);
+        const bool ok_base = shift_path_in(world, tracer, ps, base.sample, b, to_base, j_base);
+        REQUIRE(ok_wide == ok_base);
+        if (!ok_base) continue;
+        CHECK(same_bits(to_wide, to_base));
+        CHECK(j_wide == j_base);
+        ++shifts;
+      }
+    }
+    CHECK(walks > 300);
+    CHECK(shifts > 100);
+  }
+
   TEST_CASE("debug view: reconnection depth is 2 for reconnection, 0 for replay, the first rough vertex for hybrid") {
     Scene scene = load_scene(own_scene("teapot.pbrt"));
     Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=2", "film.width=32", "film.height=18",

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/widest.h"
 #include "integrators/di_sampling.h"
 #include "integrators/path_tracer.h"
 #include "integrators/pt_path_kernel.h"
@@ -30,8 +31,10 @@ PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSetting
   return initial_path_reservoir(path_world(ctx), ctx.accel, ps, s, seed, candidates);
 }
 
-PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
-                                     uint64_t seed, int candidates) {
+// The initial paths and the shifts on the host's widest instruction set (core/widest.h): ReSTIR PT's
+// candidate stage took 20% less time, its spatial pass 18% less (teapots, 640x360, 6 paired runs).
+RL_WIDEST PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
+                                               uint64_t seed, int candidates) {
   return initial_path_reservoir_in(world, AccelTracer{&accel}, ps, s, seed, candidates);
 }
 
@@ -49,8 +52,8 @@ bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSamp
   return shift_path(path_world(ctx), ctx.accel, ps, base, y1, out, jacobian);
 }
 
-bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
-                const GSurface& y1, PathSample& out, float& jacobian) {
+RL_WIDEST bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
+                          const GSurface& y1, PathSample& out, float& jacobian) {
   return shift_path_in(world, AccelTracer{&accel}, ps, base, y1, out, jacobian);
 }
 
