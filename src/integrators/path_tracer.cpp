@@ -8,8 +8,8 @@
 #include <span>
 
 #include "core/parallel.h"
-#include "core/widest.h"
 #include "core/sampling.h"
+#include "core/widest.h"
 #include "integrators/cuda_maker.h"
 #include "integrators/direction_sampling.h"
 #include "integrators/pixel_sampler.h"
