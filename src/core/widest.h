@@ -3,7 +3,8 @@
 // marked RL_WIDEST is compiled twice by GCC -- for x86-64-v3 (AVX2: VEX three-operand
 // instructions, 8-wide vectors) and for the baseline -- and the copy the CPU runs is picked at load
 // time (target_clones: an ifunc). `flatten` inlines everything it calls (within its translation
-// unit) into each copy, so the whole call tree below it gets the wider instruction set.
+// unit) into each copy, so the whole call tree below it gets the wider instruction set. (ReSTIR
+// DI's SIMD batch of light candidates, di_sampling.cpp, was the first such function.)
 // -ffp-contract=off (CMakeLists.txt) forbids fused multiply-adds, and neither copy reorders
 // floating-point arithmetic (no fast-math), so both compute the same floats: the image does not
 // depend on the machine. Mark only entry points of scalar-heavy per-sample work whose gain was

@@ -3,20 +3,16 @@
 #include <algorithm>
 
 #include "core/parallel.h"
+#include "core/widest.h"
 #include "integrators/di_candidates.h"
 #include "integrators/path_tracer.h"
 
 namespace rl {
 
-// The batch of light candidates on this machine's widest vectors: on x86-64 with GCC, one copy
-// for AVX2 (x86-64-v3, 8 lanes) chosen at load time where the CPU has it, and the baseline SSE2
-// copy (4 lanes) elsewhere. -ffp-contract=off (CMakeLists.txt) keeps both copies' arithmetic
-// identical, so the machine does not change the image.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-[[gnu::flatten, gnu::target_clones("arch=x86-64-v3", "default")]]
-#endif
-uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
-                                       DiCandidateBatch& b) {
+// The batch of light candidates on this machine's widest vectors (core/widest.h): AVX2's 8 lanes
+// where the CPU has them, the baseline SSE2's 4 elsewhere; the same floats either way.
+RL_WIDEST uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
+                                                 DiCandidateBatch& b) {
   return di_eval_light_candidates(lights, s, wo_l, bsdf_pdfs, b);
 }
 
