@@ -250,15 +250,15 @@ TEST_SUITE("restir_pt") {
 
 namespace {
 
-// Bit-for-bit equality of the fields a reservoir's paths are made of (padding left out).
+// Equality of every field a reservoir's paths are made of (padding left out), float by float
+// (Vec3's operator==, as test_gbuffer's same_bits).
 bool same_bits(const PathSample& a, const PathSample& b) {
-  auto v3 = [](Vec3 x, Vec3 y) { return x.x == y.x && x.y == y.y && x.z == y.z; };
-  return a.seed == b.seed && a.length == b.length && a.nee == b.nee && a.rc == b.rc && v3(a.rc_position, b.rc_position) &&
-         v3(a.rc_normal, b.rc_normal) && a.rc_emitter == b.rc_emitter && a.rc_material == b.rc_material &&
-         v3(a.rc_reflectance, b.rc_reflectance) && v3(a.rc_shading_normal, b.rc_shading_normal) && v3(a.rc_out, b.rc_out) &&
-         v3(a.rc_suffix, b.rc_suffix) && a.rc_mis == b.rc_mis && a.rc_tail_light_pdf == b.rc_tail_light_pdf &&
-         a.rc_tail_measure == b.rc_tail_measure && v3(a.rc_previous, b.rc_previous) && a.replay_pdf == b.replay_pdf &&
-         v3(a.contribution, b.contribution);
+  return a.seed == b.seed && a.length == b.length && a.nee == b.nee && a.rc == b.rc && a.rc_position == b.rc_position &&
+         a.rc_normal == b.rc_normal && a.rc_emitter == b.rc_emitter && a.rc_material == b.rc_material &&
+         a.rc_reflectance == b.rc_reflectance && a.rc_shading_normal == b.rc_shading_normal && a.rc_out == b.rc_out &&
+         a.rc_suffix == b.rc_suffix && a.rc_mis == b.rc_mis && a.rc_tail_light_pdf == b.rc_tail_light_pdf &&
+         a.rc_tail_measure == b.rc_tail_measure && a.rc_previous == b.rc_previous && a.replay_pdf == b.replay_pdf &&
+         a.contribution == b.contribution;
 }
 
 }  // namespace
