@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "core/parallel.h"
-#include "integrators/render.h"
-#include "integrators/stage_times.h"
-#include "scene/accel.h"
+#include "frame/render.h"
+#include "frame/stage_times.h"
+#include "backends/cpu/accel.h"
 
 namespace rl::bench {
 

@@ -19,8 +19,8 @@
 #include "backends/cuda/cuda_queries.h"
 #include "bench_common.h"
 #include "core/parallel.h"
-#include "integrators/path_tracer.h"
-#include "integrators/render.h"
+#include "integrators/path/path_tracer.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 
 using namespace rl;

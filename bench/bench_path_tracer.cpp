@@ -15,8 +15,8 @@
 
 #include "bench_common.h"
 #include "core/parallel.h"
-#include "integrators/path_tracer.h"
-#include "integrators/render.h"
+#include "integrators/path/path_tracer.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 
 using namespace rl;

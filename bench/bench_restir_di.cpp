@@ -15,7 +15,7 @@
 
 #include "bench_common.h"
 #include "image/metrics.h"
-#include "integrators/render.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 
 using namespace rl;

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "bench_common.h"
-#include "integrators/render.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 
 using namespace rl;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/render.h"
+#include "frame/render.h"
 #include "test_helpers.h"
 
 namespace rl::test {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "image/image.h"
-#include "integrators/integrator.h"
+#include "frame/integrator.h"
 
 namespace rl::test {
 

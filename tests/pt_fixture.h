@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include "integrators/gbuffer.h"
-#include "integrators/integrator.h"
+#include "frame/gbuffer.h"
+#include "frame/integrator.h"
 #include "test_helpers.h"
 
 namespace rl::test {

@@ -11,9 +11,9 @@
 
 #include "equivalence.h"
 #include "test_helpers.h"
-#include "integrators/render.h"
-#include "integrators/gbuffer.h"
-#include "scene/accel.h"
+#include "frame/render.h"
+#include "frame/gbuffer.h"
+#include "backends/cpu/accel.h"
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/animation.h"

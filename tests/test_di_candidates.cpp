@@ -4,7 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "core/rng.h"
-#include "integrators/di_candidates.h"
+#include "integrators/restir_di/di_candidates.h"
 #include "scene/lights.h"
 
 using namespace rl;

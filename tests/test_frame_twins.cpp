@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "frame_loop.h"
-#include "integrators/restir_cuda.h"
+#include "frame/restir_cuda.h"
 #include "test_helpers.h"
 
 using namespace rl;

@@ -7,9 +7,9 @@
 
 #include <cmath>
 
-#include "integrators/gbuffer.h"
-#include "integrators/path_tracer.h"
-#include "scene/accel.h"
+#include "frame/gbuffer.h"
+#include "integrators/path/path_tracer.h"
+#include "backends/cpu/accel.h"
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/loader.h"

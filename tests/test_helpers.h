@@ -9,8 +9,8 @@
 #include <string>
 
 #include "image/image.h"
-#include "integrators/options.h"
-#include "integrators/render.h"
+#include "frame/options.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 
 namespace rl::test {

@@ -1,6 +1,6 @@
 #include <doctest/doctest.h>
 
-#include "integrators/options.h"
+#include "frame/options.h"
 
 using namespace rl;
 

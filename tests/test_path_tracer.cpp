@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "integrators/path_tracer.h"
-#include "integrators/render.h"
-#include "scene/accel.h"
+#include "integrators/path/path_tracer.h"
+#include "frame/render.h"
+#include "backends/cpu/accel.h"
 #include "scene/lights.h"
 #include "scene/camera.h"
 #include "test_helpers.h"

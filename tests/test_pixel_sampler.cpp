@@ -5,8 +5,8 @@
 #include <set>
 #include <unistd.h>
 
-#include "integrators/path_kernel.h"
-#include "integrators/pixel_sampler.h"
+#include "integrators/path/path_pixel.h"
+#include "frame/pixel_sampler.h"
 #include "scene/camera.h"
 
 using namespace rl;

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <limits>
 
-#include "integrators/integrator.h"
-#include "integrators/pt_path.h"
+#include "frame/integrator.h"
+#include "integrators/restir_pt/pt_path.h"
 #include "pt_fixture.h"
 
 using namespace rl;

@@ -6,13 +6,13 @@
 #include "loader_test_utils.h"
 #include "pt_fixture.h"
 #include "image/metrics.h"
-#include "integrators/path_tracer.h"
-#include "integrators/di_sampling.h"
-#include "integrators/gi_pixel.h"
-#include "integrators/pt_path.h"
-#include "integrators/pt_path_kernel.h"
+#include "integrators/path/path_tracer.h"
+#include "integrators/restir_di/di_sampling.h"
+#include "integrators/restir_gi/restir_gi_pixel.h"
+#include "integrators/restir_pt/pt_path.h"
+#include "integrators/restir_pt/restir_pt_pixel.h"
 #include "restir/shift.h"
-#include "scene/accel.h"
+#include "backends/cpu/accel.h"
 
 using namespace rl;
 using namespace rl::test;

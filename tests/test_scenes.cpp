@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/accel.h"
+#include "backends/cpu/accel.h"
 #include "scene/animation.h"
 #include "scene/camera.h"
 #include "scene/loader.h"

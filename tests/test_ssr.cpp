@@ -6,13 +6,13 @@
 #include <cmath>
 #include <fstream>
 
-#include "integrators/gbuffer.h"
-#include "integrators/render.h"
-#include "integrators/ssr_march.h"
+#include "frame/gbuffer.h"
+#include "frame/render.h"
+#include "integrators/ssr/ssr_march.h"
 #include "scene/bsdf.h"
 #include "scene/lights.h"
 #include "scene/texture.h"
-#include "scene/accel.h"
+#include "backends/cpu/accel.h"
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "test_helpers.h"

@@ -1,8 +1,8 @@
 // Per-stage frame timings (issue 9): every integrator reports where its frame time goes.
 #include <doctest/doctest.h>
 
-#include "integrators/integrator.h"
-#include "integrators/render.h"
+#include "frame/integrator.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 #include "test_helpers.h"
 

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "image/metrics.h"
-#include "integrators/render.h"
+#include "frame/render.h"
 #include "scene/loader.h"
 #include "study/images.h"
 #include "study/references.h"

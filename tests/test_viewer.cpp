@@ -11,8 +11,8 @@
 
 #include "image/image_io.h"
 #include "image/tonemap.h"
-#include "integrators/integrator.h"
-#include "integrators/render.h"
+#include "frame/integrator.h"
+#include "frame/render.h"
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "test_helpers.h"

@@ -1,4 +1,4 @@
-#include "integrators/integrator.h"
+#include "frame/integrator.h"
 
 namespace rl {
 

@@ -204,6 +204,12 @@ struct LightsView {
   RESTIR_HD uint32_t sphere_emitter(uint32_t sphere) const {
     return sphere < num_spheres ? sphere_index[sphere] : kNoEmitter;
   }
+  // The emitter a ray hit (a SurfaceInteraction: is_sphere, geom, prim); kNoEmitter for a
+  // surface that does not emit.
+  template <class Interaction>
+  RESTIR_HD uint32_t emitter_at(const Interaction& si) const {
+    return si.is_sphere ? sphere_emitter(si.prim) : triangle_emitter(si.geom, si.prim);
+  }
   // Row y's column table (y < env_height of an image environment).
   RESTIR_HD AliasTableView env_cols(uint32_t y) const {
     return {env_col_bins + env_col_offsets[y], env_col_pmfs + env_col_offsets[y],
@@ -235,6 +241,12 @@ struct LightsView {
   // vector; zero for point lights and the environment. Lets a light point be stored without its
   // normal (ReSTIR DI's 32-byte reservoir, RTXDI's packed reservoir keeps no normal either).
   RESTIR_HD Vec3 normal_at(uint32_t emitter, Vec3 position) const;
+  // Where a point on emitter e of `before` (the same scene's lights one frame earlier) is now: an
+  // animated emitter carries its points along (same barycentrics on a triangle, same offset from a
+  // sphere's centre, the point light's position, the environment direction turned with the map).
+  // Rigid motion keeps area, so the map's Jacobian is 1 in the emitters' area measure. false when
+  // e is not the same kind of emitter in both (the sample must be dropped).
+  RESTIR_HD bool follow(uint32_t e, const LightsView& before, Vec3& position, Vec3& normal) const;
 
  private:
   // Radiance and unselected solid-angle pdf of the texel a world direction looks up, in one go.

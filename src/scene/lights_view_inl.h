@@ -366,4 +366,34 @@ RESTIR_HD inline float LightsView::pdf(uint32_t emitter, Vec3 p, Vec3 light_p, V
   return 0;
 }
 
+RESTIR_HD inline bool LightsView::follow(uint32_t idx, const LightsView& before, Vec3& position, Vec3& normal) const {
+  if (idx >= num_emitters || idx >= before.num_emitters) return false;
+  const LightEmitter &now = emitters[idx], &then = before.emitters[idx];
+  if (now.kind != then.kind) return false;
+  switch (now.kind) {
+    case LightKind::triangle: {
+      // Barycentrics of the point in the old triangle (Ericson 2004, 3.4), applied to the new one.
+      const Vec3 v0 = then.p1 - then.p0, v1 = then.p2 - then.p0, v2 = position - then.p0;
+      const float d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0), d21 = dot(v2, v1);
+      const float den = d00 * d11 - d01 * d01;
+      if (!(den > 0)) return false;
+      const float b1 = (d11 * d20 - d01 * d21) / den, b2 = (d00 * d21 - d01 * d20) / den;
+      position = now.p0 * (1 - b1 - b2) + now.p1 * b1 + now.p2 * b2;
+      normal = now.n;
+      return is_finite(position);
+    }
+    case LightKind::sphere:
+      position = now.p0 + (position - then.p0);
+      normal = normalize(position - now.p0) * (now.flip ? -1.0f : 1.0f);
+      return is_finite(position);
+    case LightKind::point:
+      position = now.p0;
+      return true;
+    case LightKind::environment:  // a direction: back into the old map's frame, out through the new one
+      position = normalize(env_world_from_light.apply_vector(before.env_light_from_world.apply_vector(position)));
+      return is_finite(position);
+  }
+  return false;
+}
+
 }  // namespace rl

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "image/image.h"
-#include "integrators/options.h"
+#include "frame/options.h"
 
 namespace rl::study {
 

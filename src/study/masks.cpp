@@ -1,7 +1,7 @@
 #include "study/masks.h"
 
 #include "core/parallel.h"
-#include "scene/accel.h"
+#include "backends/cpu/accel.h"
 #include "scene/bsdf.h"
 #include "scene/camera.h"
 

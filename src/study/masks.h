@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "integrators/options.h"
+#include "frame/options.h"
 #include "scene/scene.h"
 
 namespace rl::study {

@@ -12,7 +12,7 @@
 #include "core/rng.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
-#include "integrators/render.h"
+#include "frame/render.h"
 #include "scene/animation.h"
 #include "scene/camera.h"
 #include "study/results.h"

@@ -24,7 +24,7 @@
 #include <string>
 
 #include "image/image.h"
-#include "integrators/options.h"
+#include "frame/options.h"
 #include "scene/scene.h"
 #include "study/study_file.h"
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "integrators/options.h"
+#include "frame/options.h"
 
 namespace rl::study {
 

@@ -11,8 +11,8 @@
 #include <memory>
 #include <string>
 
-#include "integrators/options.h"
-#include "integrators/render.h"
+#include "frame/options.h"
+#include "frame/render.h"
 #include "scene/scene.h"
 #include "viewer/display.h"
 

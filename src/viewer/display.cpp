@@ -5,7 +5,7 @@
 
 #include "core/parallel.h"
 #include "image/tonemap.h"
-#include "integrators/render.h"
+#include "frame/render.h"
 
 namespace rl::viewer {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <type_traits>
 
-#include "integrators/integrator.h"
+#include "frame/integrator.h"
 
 namespace rl::viewer {
 

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "integrators/options.h"
+#include "frame/options.h"
 
 namespace rl::viewer {
 

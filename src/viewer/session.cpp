@@ -11,7 +11,7 @@
 #include "core/build_info.h"
 #include "core/output_guard.h"
 #include "image/image_io.h"
-#include "integrators/integrator.h"
+#include "frame/integrator.h"
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "viewer/background_reference.h"

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "image/image.h"
-#include "integrators/options.h"
-#include "integrators/render.h"
-#include "integrators/stage_times.h"
+#include "frame/options.h"
+#include "frame/render.h"
+#include "frame/stage_times.h"
 #include "scene/scene.h"
 #include "viewer/camera_controller.h"
 #include "viewer/display.h"

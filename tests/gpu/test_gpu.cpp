@@ -9,8 +9,8 @@
 
 #include "backends/bvh_queries.h"
 #include "backends/cuda/cuda_queries.h"
-#include "integrators/restir_cuda.h"
-#include "integrators/render.h"
+#include "frame/restir_cuda.h"
+#include "frame/render.h"
 #include "scene/animation.h"
 #include "frame_loop.h"
 #include "random_rays.h"

@@ -1,0 +1,84 @@
+// The integrator interface and registry. One file per algorithm; an integrator renders frames of
+// a sequence into an HDR image. Virtual dispatch happens once per frame, never per sample.
+#pragma once
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+#include "frame/options.h"
+#include "frame/planted_bias.h"
+#include "frame/stage_times.h"
+#include "backends/cpu/accel.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
+
+namespace rl {
+
+// A render that cannot produce a correct image (e.g. non-finite radiance) fails loudly.
+struct RenderError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderContext {
+  const Scene& scene;
+  const Accel& accel;
+  const Lights& lights;
+  const Options& options;
+  const PlantedBias* planted = nullptr;  // tests only: see planted_bias.h
+  // The backend's batched ray queries (render.backend): the wavefront stages issue their rays
+  // through these. Null: the CPU backend, i.e. `accel` itself.
+  const RayQueries* queries = nullptr;
+  const RayQueries& rays() const { return queries ? *queries : accel; }
+};
+
+struct FrameInfo {
+  int index = 0;                 // frame number in the sequence
+  int count = 1;                 // frames in the sequence
+  const PerspectiveCamera* camera = nullptr;
+  const PerspectiveCamera* previous_camera = nullptr;  // null on the first frame
+  // An animated scene's lights as they were one frame earlier (Lights::follow carries history
+  // samples to where their emitters moved); null when no light moves or on the first frame.
+  const Lights* previous_lights = nullptr;
+  // An animated scene as it was one frame earlier, with its own BVH: given (from the second
+  // frame on) only to an integrator whose needs_previous_scene() says so, which evaluates the
+  // history's targets there (GRIS: each domain's target in its own scene). Null otherwise.
+  const Scene* previous_scene = nullptr;
+  const Accel* previous_accel = nullptr;
+  std::function<void(int, int)> progress;              // (tiles done, tiles) for a progress bar; may be empty
+  StageTimes* stages = nullptr;                        // where the integrator records its stages' wall time; may be null
+};
+
+// The previous frame's scene, BVH and lights as a RenderContext (ctx's options and planted
+// biases), when the renderer kept them (FrameInfo::previous_scene); empty otherwise.
+inline std::optional<RenderContext> previous_context(const RenderContext& ctx, const FrameInfo& frame) {
+  if (!frame.previous_scene || !frame.previous_accel) return std::nullopt;
+  return RenderContext{*frame.previous_scene, *frame.previous_accel,
+                       frame.previous_lights ? *frame.previous_lights : ctx.lights, ctx.options, ctx.planted};
+}
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // Renders one frame into `out` (already sized to the film); called for frames 0, 1, ... in order.
+  virtual void render_frame(const FrameInfo& frame, Image& out) = 0;
+  // True when render_frame wants FrameInfo::previous_scene / previous_accel (the renderer then
+  // keeps a second, one-frame-old copy of an animated scene and its BVH: twice the animation cost).
+  virtual bool needs_previous_scene() const { return false; }
+};
+
+struct IntegratorInfo {
+  const char* name;
+  const char* description;
+  std::unique_ptr<Integrator> (*make)(const RenderContext&);
+};
+
+const std::vector<IntegratorInfo>& integrator_registry();
+// Both throw OptionError for an unknown name, listing the known ones.
+const IntegratorInfo& find_integrator(const std::string& name);
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
+
+}  // namespace rl

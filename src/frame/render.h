@@ -1,0 +1,110 @@
+// The public entry point: render a scene with options into HDR frames. The CLI and the study
+// harness drive integrators only through this.
+#pragma once
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "image/image.h"
+#include "frame/options.h"
+#include "frame/planted_bias.h"
+#include "frame/stage_times.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace rl {
+
+struct RenderResult {
+  Image last;                    // the last frame of the sequence
+  Image average;                 // mean of all frames (converges for static scenes)
+  std::vector<double> frame_ms;  // wall time of each frame
+  std::vector<StageTimes> frame_stages;  // wall time of each frame's stages (stage_times.h)
+};
+
+struct RenderHooks {
+  // Called after each frame with its image and wall time.
+  std::function<void(int frame, const Image& image, double ms)> on_frame;
+  bool progress_bar = false;     // draw a progress bar on stderr
+  const PlantedBias* planted = nullptr;  // tests only (planted_bias.h)
+};
+
+// Applies what the scene file says (Film resolution, pixel samples, max depth, pixel filter) as
+// option values. Call before user settings so that they override the scene.
+void apply_scene_hints(Options& o, const SceneHints& hints);
+
+// The path tracer's options whose converged image an unbiased run of `o` converges to: pt on o's
+// film and path length (restir-di estimates direct light only: depth 1), every other option from
+// `defaults` (the scene's hints), no camera path, the display transform at its defaults. The
+// sample count, seed, frames and threads are the caller's to set. Used by the study's cached
+// references and the viewer's background reference, so both compare against the same integral.
+Options reference_options(const Options& defaults, const Options& o);
+
+class Accel;
+class RayLog;
+class Lights;
+class RayQueries;
+struct RenderContext;
+class Integrator;
+class ThreadLimit;
+
+// One integrator kept alive across frames, with the scene's BVH and lights, so that ReSTIR's
+// temporal history carries from frame to frame. render() drives one over a sequence; the viewer
+// keeps one for a whole session and calls reset() when an option changes.
+class FrameRenderer {
+ public:
+  // Validates o and builds the BVH, the lights and the integrator (throws OptionError for bad options).
+  FrameRenderer(const Scene& scene, const Options& o, const PlantedBias* planted = nullptr);
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  // New options: a fresh integrator (no history; the next frame is frame 0); the lights are rebuilt
+  // only when the light selection changed, the BVH never (it depends on the scene alone), the
+  // backend's ray queries when render.backend changed.
+  void reset(const Options& o);
+  // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
+  // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
+  // for reprojection. An animated scene is first moved to that frame (its BVH refitted, its
+  // lights rebuilt if they move). Throws RenderError when a pixel is not finite. Returns the wall time in ms.
+  double render_frame(const CameraKey& key, int count, Image& out, StageTimes* stages,
+                      const std::function<void(int, int)>& progress = {});
+  // A new worker thread count (render.threads); the integrator and its history stay.
+  void set_threads(int threads);
+  // Benchmarks: every ray the CPU backend traces from now on is also appended to `log` (null: off).
+  void set_ray_log(RayLog* log);
+  const Options& options() const { return o_; }
+  int frames_rendered() const { return frame_; }
+
+ private:
+  RenderContext context() const;
+  const Scene& rest_;  // the scene as loaded (the rest pose of an animated scene)
+  // An animated scene's current frame (animate_scene), which the BVH, the lights and the
+  // integrator see; the loaded scene itself when nothing is animated.
+  Scene animated_;
+  const Scene& scene_;
+  const PlantedBias* planted_;
+  Options o_;  // the integrator's RenderContext refers to it: the object never moves
+  std::unique_ptr<Accel> accel_;
+  std::unique_ptr<RayQueries> queries_;  // render.backend's ray queries; null for the CPU (accel_ answers)
+  std::unique_ptr<Lights> lights_;
+  std::unique_ptr<Lights> previous_lights_;  // lights that move: as they were one frame earlier
+  // The animated scene one frame earlier and its BVH, kept only for an integrator that asks
+  // (Integrator::needs_previous_scene); built on first use.
+  Scene previous_scene_;
+  std::unique_ptr<Accel> previous_accel_;
+  int previous_shown_ = -1;  // the frame previous_scene_ shows
+  std::unique_ptr<ThreadLimit> limit_;
+  std::unique_ptr<Integrator> integrator_;
+  std::optional<PerspectiveCamera> previous_;
+  int frame_ = 0;
+  int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction
+};
+
+// Renders o.render.frames frames. Throws OptionError / RenderError / std::runtime_error.
+RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks = {});
+
+// mean <- mean + (img - mean) / count: the running mean after the count-th image (same size).
+void accumulate_mean(Image& mean, const Image& img, int count);
+
+}  // namespace rl

@@ -1,0 +1,125 @@
+// ReSTIR DI's per-sample functions over device-shaped views (RESTIR_HD: the host's DI and, once
+// ported, the CUDA backend's run the same code): a light point seen from a G-buffer surface, the
+// DI integrand, the shadow ray and the light strategy's density. di_sampling.h documents them.
+#pragma once
+#include "core/rng.h"
+#include "frame/gbuffer.h"
+#include "scene/lights_view.h"
+
+namespace rl {
+
+// 16 bytes: the point's normal is not stored but derived from its emitter (LightsView::normal_at),
+// so that a ReSTIR DI reservoir is 32 bytes, the size of RTXDI's packed reservoir (Wyman and
+// Panteleev 2021, §5; RTXDI's RTXDI_PackedDIReservoir).
+struct LightPoint {
+  Vec3 position;               // on the emitter; the direction itself for the environment
+  uint32_t emitter = kNoEmitter;
+};
+
+// One pre-selected emitter of a light tile and its selection probability.
+struct LightTileEntry {
+  uint32_t emitter = kNoEmitter;
+  float pmf = 0;
+};
+
+// One presampled direction of the environment map and what its sampling computed: the radiance
+// arriving from it and its solid-angle density (without the environment's selection pmf).
+struct EnvTileEntry {
+  Vec3 direction;
+  Rgb radiance{0};
+  float pdf = 0;
+};
+
+// The tile that pixel (x, y) takes its candidates from (LightTiles): drawn per 16x16-pixel block,
+// frame and chain from its own stream, so every pixel of a block reads the same `count` entries.
+inline constexpr int kLightTileBlockPixels = 16;
+RESTIR_HD inline uint32_t light_tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain, int count) {
+  const int blocks_x = (width + kLightTileBlockPixels - 1) / kLightTileBlockPixels;
+  const uint32_t block = uint32_t((y / kLightTileBlockPixels) * blocks_x + x / kLightTileBlockPixels);
+  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
+  const uint32_t last = uint32_t(count) - 1, i = uint32_t(rng.next_float() * float(count));
+  return i < last ? i : last;
+}
+
+namespace di_detail {
+
+// Light point y as seen from surface s: the direction (world and shading frame), the radiance
+// arriving along it and g, the geometry factor of the DI integrand -- |cos θ_l| / d² for area
+// emitters, 1 / d² for point lights, 1 for the environment -- which is also the Jacobian from solid
+// angle at s to y's sample measure (area, counting, solid angle: Veach 1997 §8.2.2.2). Computed once
+// per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
+struct LightView {
+  Vec3 wi, wi_l;
+  Vec3 n;  // the emitter's geometric normal at y (LightsView::normal_at; zero for points and the environment)
+  Rgb le{0};
+  float g = 0;
+};
+
+// false: y sends nothing toward s (degenerate distance, back of a one-sided emitter, black).
+RESTIR_HD inline bool view_light(const LightsView& lights, const GSurface& s, const LightPoint& y, LightView& v) {
+  switch (lights.kind(y.emitter)) {
+    case LightKind::environment:
+      v.wi = y.position;
+      v.le = lights.environment_radiance(v.wi);
+      v.g = 1;
+      break;
+    case LightKind::point: {
+      const Vec3 d = y.position - s.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return false;
+      v.wi = d / std::sqrt(d2);
+      v.le = lights.point_intensity(y.emitter);
+      v.g = 1 / d2;
+      break;
+    }
+    default: {
+      const Vec3 d = y.position - s.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return false;
+      v.wi = d / std::sqrt(d2);
+      v.n = lights.normal_at(y.emitter, y.position);
+      v.le = lights.emitted(y.emitter, v.n, -v.wi);
+      v.g = std::fabs(dot(v.n, v.wi)) / d2;
+      break;
+    }
+  }
+  if (is_black(v.le)) return false;
+  v.wi_l = s.frame().to_local(v.wi);
+  return true;
+}
+
+// f(wo, wi) |cos θ_s| Le g, given wo in the shading frame.
+RESTIR_HD inline Rgb di_value(const GSurface& s, Vec3 wo_l, const LightView& v) {
+  const Rgb f = bsdf_eval(s.bsdf, wo_l, v.wi_l) * std::fabs(v.wi_l.z);
+  const Rgb value = f * v.le * v.g;
+  return is_finite(value) ? max(value, Rgb(0)) : value;  // non-finite: reported by the render driver, never hidden
+}
+
+// The ray that tests the visibility of y from s.
+RESTIR_HD inline Ray di_shadow_ray(const LightsView& lights, const GSurface& s, const LightPoint& y, const LightView& v, float eps) {
+  switch (lights.kind(y.emitter)) {
+    case LightKind::environment: return spawn_ray(s.p, s.ng, v.wi, eps);
+    case LightKind::point: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
+    default: return spawn_ray_to(s.p, s.ng, y.position, v.n, eps);
+  }
+}
+
+// Density of the light strategy at y for the receiver s (selection pmf x Lights::sample_emitter's
+// density), in y's sample measure.
+RESTIR_HD inline float light_density(const LightsView& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
+  if (lights.kind(y.emitter) == LightKind::point) return lights.selection_pmf(y.emitter);
+  return lights.pdf(y.emitter, s.p, y.position, v.n) * v.g;
+}
+
+}  // namespace di_detail
+
+// The DI integrand at s for light point y, without visibility (di_sampling.h).
+RESTIR_HD inline Rgb di_unshadowed(const LightsView& lights, const GSurface& s, const LightPoint& y, float eps, Ray* shadow_ray) {
+  if (!s.valid || y.emitter == kNoEmitter) return Rgb(0);
+  di_detail::LightView v;
+  if (!di_detail::view_light(lights, s, y, v)) return Rgb(0);
+  if (shadow_ray) *shadow_ray = di_detail::di_shadow_ray(lights, s, y, v, eps);
+  return di_detail::di_value(s, s.frame().to_local(s.wo), v);
+}
+
+}  // namespace rl

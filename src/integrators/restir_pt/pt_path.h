@@ -1,0 +1,124 @@
+// ReSTIR PT's path samples and shift mappings (Lin et al. 2022, "Generalized resampled importance
+// sampling: foundations of ReSTIR", §5-7).
+//
+// A path x̄ = (x_1, ..., x_n) starts at the pixel's primary hit x_1 and ends on an emitter x_n (a
+// point on an area light, a point light, or an environment direction). It is parameterized by the
+// solid angles of the directions sampled at x_1..x_{n-2} (or x_{n-1} for BSDF-terminated paths)
+// and the emitter point's area (solid angle for the environment): f(x̄) = Π f_s|cos| × Le × G.
+// Each path carries how its last vertex was sampled (NEE or BSDF — "tag" t), and the integrand of
+// the tagged space is m_t(x̄) f(x̄) with the balance heuristic m_t over the two strategies, so that
+// the tags partition ∫ f exactly (GRIS with per-path strategies).
+//
+// Shifts from a base path x̄ to a pixel whose primary hit is y_1:
+//   random replay  re-traces the walk from y_1 with the base path's random numbers; the map is the
+//                  identity in primary sample space, so |∂ȳ/∂x̄| = p(x̄) / p(ȳ) (GRIS §6.1).
+//   reconnection   keeps x_2..x_n and connects y_1 to x_2 (k = 2).
+//   hybrid         replays y_2..y_{k-1}, then connects y_{k-1} to x_k, where k is the first vertex
+//                  with x_{k-1}, x_k both rough and |x_k - x_{k-1}| >= distance threshold (GRIS §7.2).
+//   Reconnection jacobian (solid angle at x_{k-1} -> at y_{k-1}, x_k fixed; ReSTIR GI eq. 11):
+//     |cos θ_k^y| / |cos θ_k^x| · |x_k − x_{k−1}|² / |x_k − y_{k−1}|²,  and 1 when x_k is the emitter
+//     vertex (area measure); the replayed prefix contributes the pdf ratio above.
+#pragma once
+#include <span>
+#include <vector>
+
+#include "frame/gbuffer.h"
+#include "restir/reservoir.h"
+
+namespace rl {
+
+class Accel;
+struct PathWorld;
+
+struct PathSample {
+  uint64_t seed = 0;       // random stream of the walk (per-vertex streams are derived from it)
+  int length = 0;          // n (0 = no path)
+  bool nee = false;        // tag: last vertex sampled by next-event estimation (else by the BSDF)
+  int rc = 0;              // reconnection vertex k in [2, n]; 0 = none (pure replay)
+  // Reconnection vertex x_k (valid when rc > 0).
+  Vec3 rc_position;        // x_k; the direction for an environment emitter
+  Vec3 rc_normal;          // geometric normal at x_k (zero for point lights / environment)
+  uint32_t rc_emitter = 0xffffffffu;  // the emitter when k == n
+  // x_k's BSDF and shading frame (k < n), kept as what rebuilds them bit for bit: the material
+  // (the walk's x_k, k >= 2, is always a ray hit), the reflectance make_bsdf was given there (the
+  // texture value), and the shading normal (Frame::from_normal). 28 bytes instead of 92 in a
+  // reservoir that every reuse pass reads k times per pixel (issue 9: compact ReSTIR state).
+  int rc_material = 0;
+  Rgb rc_reflectance{0};
+  Vec3 rc_shading_normal;
+  Vec3 rc_out;             // ω_k, leaving x_k toward x_{k+1} (k < n)
+  Rgb rc_suffix{0};        // everything after x_k's own BSDF term: Π_{i>k} f_s|cos| × Le G (k < n);
+                           // Le G of the last segment as the walk found it (k = n)
+  float rc_mis = 1;        // m_t of the tail when x_{n-1} is after x_k (k < n - 1)
+  float rc_tail_light_pdf = 0;  // k >= n - 1: the emitter's NEE density at x_n, to recompute m_t after a shift
+  float rc_tail_measure = 0;    // k = n - 1: factor turning a solid-angle pdf at x_k into the emitter's measure
+  Vec3 rc_previous;        // x_{k-1}, for the jacobian
+  float replay_pdf = 1;    // pdf of the replayed part: directions before x_{k-1} (k > 0), or the
+                           // whole path including its last vertex (k = 0)
+  Rgb contribution{0};     // m_t(x̄) f(x̄) in the domain the sample currently lives in
+};
+
+using PathReservoir = restir::Reservoir<PathSample>;
+static_assert(sizeof(PathReservoir) <= 160, "ReSTIR PT's reservoir outgrew 160 bytes (bench_scaling prints its size)");
+
+struct PathSettings {
+  int max_depth = 3;
+  bool nee = true;
+  bool bsdf_sampling = true;
+  bool russian_roulette = false;
+  int rr_min_depth = 3;    // first vertex d whose continuation may be terminated (as path.rr_min_depth)
+  ShiftMapping shift = ShiftMapping::hybrid;
+  float roughness_threshold = 0.2f;
+  float distance_threshold = 0.1f;
+  int min_length = 2;  // shortest path offered (3 when direct lighting comes from ReSTIR DI)
+  // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
+  // convergence harness must detect (tests/test_planted_bias.cpp). Never false in a render.
+  bool check_invertibility = true;
+};
+PathSettings path_settings(const Options& o);
+
+// Russian roulette's survival probability after reaching a vertex with this BSDF: its albedo
+// (max component; 1 for dielectrics). A property of the vertex alone, so that reconnection shifts,
+// which keep the suffix's vertices, keep its roulette decisions too (see pt_path.cpp).
+RESTIR_HD inline float roulette_survival(const Bsdf& b) {
+  switch (b.type) {
+    case Material::Type::diffuse: return std::min(1.0f, max_component(b.reflectance));
+    case Material::Type::conductor: return std::min(1.0f, max_component(bsdf_conductor_fresnel(b, 1.0f)));
+    case Material::Type::dielectric: return 1.0f;
+  }
+  return 1.0f;
+}
+
+// Traces `candidates` walks from the primary surface s and resamples one path among all the
+// paths they contain (NEE connections and BSDF emitter hits, each MIS-weighted): weight
+// luminance(m_t f / p) / candidates. Confidence = candidates. seeds: hash of (pixel, frame, chain).
+PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
+                                     int candidates);
+
+// Every path that one walk with random stream walk_seed offers from s, as PathSamples (tests: the
+// reconnection index a pixel's own walk assigns to a path, against the one a shift carries).
+std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed);
+
+// Shifts `base` to the pixel whose primary surface is `y1` with the sample's shift mapping.
+// Returns false if the shift fails (different path structure, invalid vertex, occlusion, zero
+// contribution); else `out` lives in the new domain and jacobian = |∂ȳ/∂x̄|.
+bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
+                PathSample& out, float& jacobian);
+
+// initial_path_reservoir and shift_path over a PathWorld the caller builds once per frame:
+// path_world(ctx) copies the scene's and the lights' views, ~4% of a ReSTIR PT frame when done
+// for every shift. Same results.
+PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
+                                     uint64_t seed, int candidates);
+bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
+                const GSurface& y1, PathSample& out, float& jacobian);
+
+// pt.direct = restir-di: renders this frame of `direct` (ReSTIR DI on the same primary rays) and
+// adds it to `out`; its stages are recorded in frame.stages as "di.<stage>".
+void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out);
+
+// The reconnection-depth debug view's histogram of one chain's final reservoirs (k = 0: no
+// reconnection), one line on stderr.
+void print_reconnection_histogram(int frame, int chain, std::span<const PathReservoir> reservoirs);
+
+}  // namespace rl
