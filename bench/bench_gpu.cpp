@@ -42,7 +42,7 @@ void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::ve
     for (int x = 0; x < o.film.width; ++x)
       for (int k = 0; k < o.render.spp; ++k) {
         Pcg32 rng = make_rng(uint32_t(y * o.film.width + x), 0, RngPass::path, o.render.seed, uint32_t(k));
-        (void)path_radiance(ctx, o.path, camera_ray(ctx, cam, x, y, 0, k), rng, &st);
+        (void)path_radiance(ctx, o.path, camera_ray(camera_sampling(ctx.options), cam, x, y, 0, k), rng, &st);
       }
     std::lock_guard lock(m);
     rays.insert(rays.end(), r.begin(), r.end());

@@ -48,7 +48,7 @@ FrameRun run_frame(const RenderContext& ctx, const PerspectiveCamera& cam, bool 
     for (int x = 0; x < o.film.width; ++x) {
       uint32_t pixel = uint32_t(y * o.film.width + x);
       for (int s = 0; s < o.render.spp; ++s) {
-        Ray r = camera_ray(ctx, cam, x, y, 0, s);
+        Ray r = camera_ray(camera_sampling(ctx.options), cam, x, y, 0, s);
         Pcg32 rng = make_rng(pixel, 0, RngPass::path, o.render.seed, uint32_t(s));
         (void)path_radiance(ctx, o.path, r, rng, &st);
       }

@@ -11,9 +11,7 @@ namespace rl::test {
 
 using MakeIntegrator = std::unique_ptr<Integrator> (*)(const RenderContext&);
 
-inline std::unique_ptr<Integrator> make_cpu_restir_di(const RenderContext& ctx) { return make_integrator("restir-di", ctx); }
-inline std::unique_ptr<Integrator> make_cpu_restir_gi(const RenderContext& ctx) { return make_integrator("restir-gi", ctx); }
-inline std::unique_ptr<Integrator> make_cpu_restir_pt(const RenderContext& ctx) { return make_integrator("restir-pt", ctx); }
+inline std::unique_ptr<Integrator> make_registered(const RenderContext& ctx) { return make_integrator(ctx.options.integrator, ctx); }
 
 // `frames` frames of a static scene as FrameRenderer renders them (one camera, the previous
 // frame's passed on), through the integrator `make` builds.

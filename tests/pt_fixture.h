@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "backends/cpu/embree_tracer.h"
 #include "frame/gbuffer.h"
 #include "frame/integrator.h"
 #include "test_helpers.h"
@@ -25,6 +26,14 @@ struct PtFixture {
     ctx = std::make_unique<RenderContext>(RenderContext{scene, *accel, *lights, options});
     PerspectiveCamera cam(scene.camera.at_frame(0, 1), size, size);
     build_gbuffer(*ctx, cam, 0, 0, g);
+  }
+  // The scene as the per-pixel code reads it on the CPU backend (a static scene: no history).
+  PathWorld world() const { return path_world(*ctx); }
+  EmbreeTracer tracer() const { return {accel.get()}; }
+  FrameWorld<EmbreeTracer> frame_world() const {
+    FrameWorld<EmbreeTracer> fw;
+    fw.world = world(), fw.tracer = tracer();
+    return fw;
   }
   // The primary surface of a uniformly chosen pixel (may be invalid: background).
   const GSurface& random_surface(Pcg32& rng) const {

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "frame_loop.h"
-#include "frame/restir_cuda.h"
 #include "test_helpers.h"
 
 using namespace rl;
@@ -49,8 +48,7 @@ struct Case {
   const char* scene;
   std::vector<const char*> sets;
 };
-void check_twin(const char* integrator, MakeIntegrator cpu_make, MakeIntegrator twin_make, double min_same, int width, int height,
-                const std::vector<Case>& cases) {
+void check_twin(const char* integrator, double min_same, int width, int height, const std::vector<Case>& cases) {
   for (const Case& c : cases) {
     CAPTURE(c.scene);
     const Scene scene = load_scene(own_scene(c.scene));
@@ -58,8 +56,10 @@ void check_twin(const char* integrator, MakeIntegrator cpu_make, MakeIntegrator 
     o.integrator = integrator;
     o.film.width = width, o.film.height = height;
     for (const char* s : c.sets) set_option_assignment(o, s);
-    const std::vector<Image> cpu = render_frames(scene, o, cpu_make, 3);
-    const std::vector<Image> twin = render_frames(scene, o, twin_make, 3);
+    const std::vector<Image> cpu = render_frames(scene, o, &make_registered, 3);
+    Options bvh = o;
+    bvh.render.backend = Backend::cpu_bvh;
+    const std::vector<Image> twin = render_frames(scene, bvh, &make_registered, 3);
     for (int f = 0; f < 3; ++f) {
       CAPTURE(f);
       const Agreement a = agreement(cpu[size_t(f)], twin[size_t(f)]);
@@ -76,7 +76,7 @@ void check_twin(const char* integrator, MakeIntegrator cpu_make, MakeIntegrator 
 TEST_SUITE("frame_twins") {
   TEST_CASE("the CUDA backend's ReSTIR DI driver, run on the host, renders what the CPU's restir-di renders") {
     check_twin(
-        "restir-di", &make_cpu_restir_di, &make_host_twin_restir_di, 0.99, 64, 48,
+        "restir-di", 0.99, 64, 48,
         {
             {"many-lights.pbrt", {"render.spp=2"}},                                  // spheres, 2400 emitters, tiles, two chains
             {"env-object.pbrt", {"di.bsdf_candidates=2", "di.light_tiles=8"}},       // environment tiles, BSDF candidates
@@ -87,7 +87,7 @@ TEST_SUITE("frame_twins") {
   }
 
   TEST_CASE("the CUDA backend's ReSTIR GI driver, run on the host, renders what the CPU's restir-gi renders") {
-    check_twin("restir-gi", &make_cpu_restir_gi, &make_host_twin_restir_gi, 0.97, 48, 32,
+    check_twin("restir-gi", 0.97, 48, 32,
                {
                    {"teapot.pbrt", {"render.spp=2", "path.max_depth=3"}},                  // two chains
                    {"env-object.pbrt", {"gi.target=radiance", "gi.spatial_mis=generalized-balance", "path.max_depth=3"}},  // the other target, MIS
@@ -97,7 +97,7 @@ TEST_SUITE("frame_twins") {
 
   TEST_CASE("the CUDA backend's ReSTIR PT driver, run on the host, renders what the CPU's restir-pt renders") {
     check_twin(
-        "restir-pt", &make_cpu_restir_pt, &make_host_twin_restir_pt, 0.97, 48, 32,
+        "restir-pt", 0.97, 48, 32,
         {
             {"teapot.pbrt", {"render.spp=2"}},                                              // hybrid, two chains
             {"teapot.pbrt", {"pt.shift=reconnection", "pt.candidates=2"}},                  // reconnection, two walks
@@ -105,16 +105,5 @@ TEST_SUITE("frame_twins") {
             {"mirror-glass.pbrt", {"pt.direct=restir-di", "path.max_depth=2"}},  // delta vertices; ReSTIR DI adds direct light
             {"teapot.pbrt", {"render.debug_view=reconnection-depth"}},           // a debug view (and its histogram)
         });
-  }
-
-  TEST_CASE("the drivers refuse what they do not handle yet, naming it") {
-    const Scene scene = load_scene(own_scene("dynamic-room.pbrt"));
-    const Options o = options_for(scene, {"integrator=restir-di", "film.width=8", "film.height=8"});
-    Accel accel(scene);
-    Lights lights(scene, o.render.light_selection);
-    const RenderContext ctx{scene, accel, lights, o, nullptr, nullptr};
-    CHECK_THROWS_WITH(make_host_twin_restir_di(ctx), doctest::Contains("static scenes only"));
-    CHECK_THROWS_WITH(make_host_twin_restir_pt(ctx),
-                      doctest::Contains("restir-pt runs on the CUDA backend for static scenes only"));
   }
 }

@@ -54,11 +54,11 @@ Agreement compare(const std::string& path, int width, int height) {
   Agreement r;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const Ray ray = camera_ray(ctx, cam, x, y, 0, 0);
+      const Ray ray = camera_ray(camera_sampling(ctx.options), cam, x, y, 0, 0);
       Hit hit;
       const bool found = accel.intersect(ray, hit);
       GSurface s;
-      fill_gsurface(ctx, ray, found ? &hit : nullptr, s, nullptr);
+      fill_gsurface(accel.scene_view(), lights.view(), ray, found ? &hit : nullptr, s, nullptr, 0);
       const GSurface& b = g.at(x, y);
       ++r.pixels;
       r.hits += found;

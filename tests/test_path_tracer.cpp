@@ -65,7 +65,7 @@ TEST_SUITE("path_tracer") {
           Rgb sum(0);
           for (int s = 0; s < o.render.spp; ++s) {
             Pcg32 rng = make_rng(pixel, 0, RngPass::path, o.render.seed, uint32_t(s));
-            sum += path_radiance(ctx, o.path, camera_ray(ctx, cam, x, y, 0, s), rng);
+            sum += path_radiance(ctx, o.path, camera_ray(camera_sampling(ctx.options), cam, x, y, 0, s), rng);
           }
           const Rgb expected = sum / float(o.render.spp), got = r.last.at(x, y);
           differ += (expected.x != got.x || expected.y != got.y || expected.z != got.z) ? 1 : 0;

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "frame/integrator.h"
-#include "integrators/restir_pt/pt_path.h"
+#include "integrators/restir_pt/restir_pt_pixel.h"
 #include "pt_fixture.h"
 
 using namespace rl;
@@ -38,14 +38,14 @@ ShiftCounts check_shifts(PtFixture& fx, const PathSettings& ps, int attempts) {
     const GSurface& a = fx.random_surface(rng);
     const GSurface& b = fx.random_surface(rng);
     if (!a.valid || !b.valid) continue;
-    PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
+    PathReservoir r = initial_path_reservoir(fx.world(), fx.tracer(), ps, a, rng.next_u32(), 1);
     if (!r.has_sample()) continue;
     const PathSample& base = r.sample;
     PathSample there, back;
     float j1 = 0, j2 = 0;
-    if (!shift_path(*fx.ctx, ps, base, b, there, j1)) continue;
+    if (!shift_path(fx.world(), fx.tracer(), ps, base, b, there, j1)) continue;
     ++c.shifted;
-    const std::vector<PathSample> own = walk_paths(*fx.ctx, ps, b, base.seed);
+    const std::vector<PathSample> own = walk_paths(fx.world(), fx.tracer(), ps, b, base.seed);
     if (base.rc == 0) {
       const PathSample* same = find_path(own, base.length, base.nee);
       REQUIRE(same != nullptr);  // replay regenerates the walk's own path
@@ -57,7 +57,7 @@ ShiftCounts check_shifts(PtFixture& fx, const PathSettings& ps, int attempts) {
         if (p.length >= base.rc) CHECK((p.rc == 0 || p.rc >= base.rc));
       ++c.prefix_checked;
     }
-    if (!shift_path(*fx.ctx, ps, there, a, back, j2)) {
+    if (!shift_path(fx.world(), fx.tracer(), ps, there, a, back, j2)) {
       FAIL_CHECK("shift not invertible");
       continue;
     }
@@ -76,7 +76,8 @@ TEST_SUITE("restir_pt") {
       PtFixture fx(own_scene(scene));
       for (int depth : {1, 3}) {
         PathSettings ps;
-        ps.max_depth = depth;
+        ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
+        ps.path.max_depth = depth;
         CAPTURE(scene);
         CAPTURE(depth);
         const ShiftCounts c = check_shifts(fx, ps, 6000);
@@ -95,10 +96,10 @@ TEST_SUITE("restir_pt") {
       PtFixture fx(own_scene(scene));
       for (ShiftMapping shift : {ShiftMapping::hybrid, ShiftMapping::random_replay, ShiftMapping::reconnection}) {
         PathSettings ps;
-        ps.max_depth = 5;
-        ps.russian_roulette = true;
-        ps.rr_min_depth = 1;
-        ps.shift = shift;
+        ps.path.max_depth = 5;
+        ps.path.russian_roulette = true;
+        ps.path.rr_min_depth = 1;
+        ps.pt.shift = shift;
         CAPTURE(scene);
         CAPTURE(int(shift));
         CHECK(check_shifts(fx, ps, 3000).round_trips > 50);
@@ -189,10 +190,10 @@ TEST_SUITE("render") {
     Scene scene = load_scene(own_scene("stripes.pbrt"));  // Integrator "path" "integer maxdepth" 5
     const Options o = options_for(scene, {"integrator=restir-pt"});
     CHECK(o.path.max_depth == 5);
-    CHECK(path_settings(o).max_depth == 5);
+    CHECK(path_settings(o).path.max_depth == 5);
     Options rr = o;
     rr.path.russian_roulette = false;
-    CHECK_FALSE(path_settings(rr).russian_roulette);
+    CHECK_FALSE(path_settings(rr).path.russian_roulette);
     // The keys of the former per-integrator depths point to the one setting.
     for (const char* old : {"pt.max_depth=3", "gi.max_depth=3", "pt.russian_roulette=true", "pt.nee=false"}) {
       Options x;

@@ -7,7 +7,6 @@
 #include "pt_fixture.h"
 #include "image/metrics.h"
 #include "integrators/path/path_tracer.h"
-#include "integrators/restir_di/di_sampling.h"
 #include "integrators/restir_gi/restir_gi_pixel.h"
 #include "integrators/restir_pt/pt_path.h"
 #include "integrators/restir_pt/restir_pt_pixel.h"
@@ -30,30 +29,31 @@ bool close_rgb(Rgb a, Rgb b, float rel) {
 // Shifts paths between random pixel pairs and back; returns how many round trips were checked.
 int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
   PathSettings ps;
-  ps.shift = shift;
-  ps.max_depth = max_depth;
+  ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
+  ps.pt.shift = shift;
+  ps.path.max_depth = max_depth;
   Pcg32 rng(42);
   int checked = 0, identity = 0;
   for (int it = 0; it < 3000 && checked < 200; ++it) {
     const GSurface& a = fx.random_surface(rng);
     const GSurface& b = fx.random_surface(rng);
     if (!a.valid || !b.valid) continue;
-    PathReservoir r = initial_path_reservoir(*fx.ctx, ps, a, rng.next_u32(), 1);
+    PathReservoir r = initial_path_reservoir(fx.world(), fx.tracer(), ps, a, rng.next_u32(), 1);
     if (!r.has_sample()) continue;
     const PathSample& base = r.sample;
     CHECK(luminance(base.contribution) == doctest::Approx(r.target));
     // Onto its own pixel every shift is the identity with jacobian 1.
     PathSample same;
     float j_same = 0;
-    if (shift_path(*fx.ctx, ps, base, a, same, j_same)) {
+    if (shift_path(fx.world(), fx.tracer(), ps, base, a, same, j_same)) {
       ++identity;
       CHECK(j_same == doctest::Approx(1).epsilon(1e-3).scale(1e-9));
       CHECK(close_rgb(same.contribution, base.contribution, 2e-3f));
     }
     PathSample there, back;
     float j1 = 0, j2 = 0;
-    if (!shift_path(*fx.ctx, ps, base, b, there, j1)) continue;
-    REQUIRE(shift_path(*fx.ctx, ps, there, a, back, j2));  // invertible where defined
+    if (!shift_path(fx.world(), fx.tracer(), ps, base, b, there, j1)) continue;
+    REQUIRE(shift_path(fx.world(), fx.tracer(), ps, there, a, back, j2));  // invertible where defined
     ++checked;
     CHECK(j1 * j2 == doctest::Approx(1).epsilon(2e-3).scale(1e-9));
     CHECK(close_rgb(back.contribution, base.contribution, 5e-3f));
@@ -71,10 +71,10 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
 // largest relative difference seen; `checked` counts the pairs.
 float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& checked) {
   PathSettings ps;
-  ps.shift = shift;
-  ps.max_depth = max_depth;
+  ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
+  ps.pt.shift = shift;
+  ps.path.max_depth = max_depth;
   const PathWorld world = path_world(*fx.ctx);
-  const AccelTracer tracer{fx.accel.get()};
   Pcg32 rng(1234);
   float worst = 0;
   checked = 0;
@@ -82,9 +82,10 @@ float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& c
   auto compare = [&](const PathSample& y, float t_y, const GSurface& from, const GSurface& to) {
     PathSample x;
     float j = 0;
-    if (!shift_path(world, *fx.accel, ps, y, to, x, j)) return;
+    if (!shift_path(world, fx.tracer(), ps, y, to, x, j)) return;
     const GSurface* surfaces[2] = {&to, &from};
-    const PtViewBridge<AccelTracer> bridge{&world, &tracer, &ps, surfaces};
+    const PtBridges<EmbreeTracer> bridges{fx.frame_world(), ps, true, PlantedBias{}, false};
+    const PtBridge<EmbreeTracer> bridge = bridges(surfaces, 2, false);
     REQUIRE(bridge.stored_target_valid(1));
     const float shifted_back = bridge.target_from(1, x);
     const float stored = t_y / j;
@@ -97,12 +98,12 @@ float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& c
     const GSurface& b = fx.random_surface(rng);
     const GSurface& c = fx.random_surface(rng);
     if (!a.valid || !b.valid || !c.valid) continue;
-    const PathReservoir r = initial_path_reservoir(world, *fx.accel, ps, a, rng.next_u32(), 1);
+    const PathReservoir r = initial_path_reservoir(world, fx.tracer(), ps, a, rng.next_u32(), 1);
     if (!r.has_sample()) continue;
     compare(r.sample, r.target, a, b);
     PathSample at_b;
     float j = 0;
-    if (shift_path(world, *fx.accel, ps, r.sample, b, at_b, j)) compare(at_b, luminance(at_b.contribution), b, c);
+    if (shift_path(world, fx.tracer(), ps, r.sample, b, at_b, j)) compare(at_b, luminance(at_b.contribution), b, c);
   }
   return worst;
 }
@@ -129,9 +130,8 @@ TEST_SUITE("restir_pt") {
     Fixture fx(own_scene("teapot.pbrt"));
     PathSettings unchecked;
     unchecked.check_invertibility = false;
-    const PathWorld world = path_world(*fx.ctx);
-    const AccelTracer tracer{fx.accel.get()};
-    const PtViewBridge<AccelTracer> bridge{&world, &tracer, &unchecked, nullptr};
+    const PtBridges<EmbreeTracer> bridges{fx.frame_world(), unchecked, true, PlantedBias{}, false};
+    const PtBridge<EmbreeTracer> bridge = bridges(nullptr, 2, false);
     CHECK_FALSE(bridge.stored_target_valid(1));
     CHECK_FALSE(bridge.stored_target_valid(0));
   }
@@ -141,7 +141,7 @@ TEST_SUITE("restir_pt") {
       CAPTURE(path);
       Fixture fx(path);
       const PathWorld world = path_world(*fx.ctx);
-      const AccelTracer tracer{fx.accel.get()};
+      const EmbreeTracer tracer{fx.accel.get()};
       PathOptions suffix = fx.options.path;
       suffix.max_depth = 2;
       Pcg32 rng(99);
@@ -152,10 +152,11 @@ TEST_SUITE("restir_pt") {
         const GSurface& b = fx.random_surface(rng);
         if (!a.valid || !b.valid) continue;
         Rgb specular;
-        const GiReservoir r = gi_initial_in(world, tracer, suffix, GiTarget::contribution, a, rng, specular);
+        const GiReservoir r = gi_initial(world, tracer, suffix, GiTarget::contribution, a, rng, specular);
         if (!r.has_sample()) continue;
         const GSurface* surfaces[2] = {&b, &a};  // canonical b, neighbour a
-        const GiViewBridge<AccelTracer> bridge{&world, &tracer, GiTarget::contribution, surfaces};
+        const GiBridges<EmbreeTracer> bridges{fx.frame_world(), GiTarget::contribution, suffix, true};
+        const GiBridge<EmbreeTracer> bridge = bridges(surfaces, 2, false);
         REQUIRE(bridge.stored_target_valid(1));
         GiSample x;
         float j = 0;
@@ -271,20 +272,21 @@ TEST_SUITE("restir_pt") {
   TEST_CASE("the widest-ISA copies of the path walk and the shift compute the baseline's floats") {
     Fixture fx(own_scene("teapot.pbrt"));
     const PathWorld world = path_world(*fx.ctx);
-    const AccelTracer tracer{fx.accel.get()};
+    const EmbreeTracer tracer{fx.accel.get()};
     Pcg32 rng(77);
     int walks = 0, shifts = 0;
     for (ShiftMapping shift : {ShiftMapping::reconnection, ShiftMapping::random_replay, ShiftMapping::hybrid}) {
       PathSettings ps;
-      ps.shift = shift;
-      ps.max_depth = 5;
+      ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
+      ps.pt.shift = shift;
+      ps.path.max_depth = 5;
       for (int it = 0; it < 300; ++it) {
         const GSurface& a = fx.random_surface(rng);
         const GSurface& b = fx.random_surface(rng);
         if (!a.valid || !b.valid) continue;
         const uint64_t seed = rng.next_u32();
-        const PathReservoir wide = initial_path_reservoir(world, *fx.accel, ps, a, seed, 2);
-        const PathReservoir base = initial_path_reservoir_in(world, tracer, ps, a, seed, 2);
+        const PathReservoir wide = initial_path_reservoir(world, fx.tracer(), ps, a, seed, 2);
+        const PathReservoir base = initial_path_reservoir<EmbreeTracer>(world, tracer, ps, a, seed, 2);
         CHECK(same_bits(wide.sample, base.sample));
         CHECK((wide.target == base.target && wide.weight_sum == base.weight_sum && wide.ucw == base.ucw &&
                wide.confidence == base.confidence));
@@ -292,8 +294,8 @@ TEST_SUITE("restir_pt") {
         if (!base.has_sample()) continue;
         PathSample to_wide, to_base;
         float j_wide = 0, j_base = 0;
-        const bool ok_wide = shift_path(world, *fx.accel, ps, base.sample, b, to_wide, j_wide);
-        const bool ok_base = shift_path_in(world, tracer, ps, base.sample, b, to_base, j_base);
+        const bool ok_wide = shift_path(world, fx.tracer(), ps, base.sample, b, to_wide, j_wide);
+        const bool ok_base = shift_path<EmbreeTracer>(world, tracer, ps, base.sample, b, to_base, j_base);
         REQUIRE(ok_wide == ok_base);
         if (!ok_base) continue;
         CHECK(same_bits(to_wide, to_base));
@@ -347,8 +349,9 @@ TEST_SUITE("restir_pt") {
     REQUIRE(world2.lights.fixed);
     // Paths x_1 -> x_2 on the environment, reconnected at k = n = 2.
     PathSettings ps;
-    ps.shift = ShiftMapping::reconnection;
-    ps.max_depth = 1;
+    ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
+    ps.pt.shift = ShiftMapping::reconnection;
+    ps.path.max_depth = 1;
     const uint32_t env = lights1.environment_emitter();
     Pcg32 rng(7);
     int checked = 0;
@@ -356,17 +359,17 @@ TEST_SUITE("restir_pt") {
       const GSurface& a = fx.random_surface(rng);
       const GSurface& b = fx.random_surface(rng);
       if (!a.valid || !b.valid) continue;
-      const PathReservoir r = initial_path_reservoir(world1, *fx.accel, ps, a, rng.next_u32(), 1);
+      const PathReservoir r = initial_path_reservoir(world1, fx.tracer(), ps, a, rng.next_u32(), 1);
       if (!r.has_sample() || r.sample.rc != 2 || r.sample.length != 2 || r.sample.rc_emitter != env) continue;
       PathSample here, kept, looked_up;
       float j = 0, j_kept = 0, j_looked = 0;
-      if (!shift_path(world1, *fx.accel, ps, r.sample, b, here, j)) continue;
+      if (!shift_path(world1, fx.tracer(), ps, r.sample, b, here, j)) continue;
       // Fixed lights: the kept values, i.e. the base lights' (the caller's promise that they hold).
-      REQUIRE(shift_path(world2, *fx.accel, ps, r.sample, b, kept, j_kept));
+      REQUIRE(shift_path(world2, fx.tracer(), ps, r.sample, b, kept, j_kept));
       CHECK(kept.contribution == here.contribution);
       // Lights that may change: the lookup, twice the radiance, the same density and MIS weight.
       world2.lights.fixed = false;
-      REQUIRE(shift_path(world2, *fx.accel, ps, r.sample, b, looked_up, j_looked));
+      REQUIRE(shift_path(world2, fx.tracer(), ps, r.sample, b, looked_up, j_looked));
       world2.lights.fixed = true;
       CHECK(close_rgb(looked_up.contribution, here.contribution * 2.0f, 1e-5f));
       CHECK(j_looked == j);

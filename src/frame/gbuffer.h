@@ -85,7 +85,7 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
   s.depth = hit->t;
   const MaterialParams& mat = scene.materials[si.material];
   s.bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
-  const uint32_t e = si.is_sphere ? lights.sphere_emitter(si.prim) : lights.triangle_emitter(si.geom, si.prim);
+  const uint32_t e = lights.emitter_at(si);
   if (e != kNoEmitter) s.le = lights.emitted(e, si.ng, s.wo);
   if (!motion) return;
   motion->p_previous = s.p;
@@ -96,14 +96,17 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
     motion->ns_previous = normalize(back[a].apply_vector(s.ns));  // rigid: the rotation part
   }
 }
-// The same on the context's scene and lights.
-void fill_gsurface(const RenderContext& ctx, const Ray& ray, const Hit* hit, GSurface& s,
-                   const std::vector<Mat4>* back = nullptr, GMotion* motion = nullptr);
 // Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
 std::vector<Mat4> motion_back(const Scene& scene, int frame);
 
-// One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter);
-// g.motion filled in a scene with animations, emptied in one without.
+// One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter),
+// traced on the CPU backend (Embree): every pixel's surface into pixels[] (camera.width() x
+// camera.height()), and its motion into motion[] unless that is null. back: motion_back's maps
+// (back_count of them). The CPU backend's primary-hit stage (cpu_backend.h).
+void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, const Mat4* back,
+                   uint32_t back_count, GSurface* pixels, GMotion* motion);
+// The same into g, sized for the camera, with a motion array where the scene has animations
+// (integrators that keep a host GBuffer: ssr).
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);
 
 // Pixel of the previous frame that saw world point p; false when off screen or behind the camera.

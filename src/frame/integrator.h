@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "frame/frame_world.h"
 #include "frame/options.h"
 #include "frame/planted_bias.h"
 #include "frame/stage_times.h"
@@ -34,6 +35,10 @@ struct RenderContext {
   const RayQueries* queries = nullptr;
   const RayQueries& rays() const { return queries ? *queries : accel; }
 };
+
+// The context's scene and lights as the per-sample code reads them (host views, no copy). Build it
+// once per stage, not per sample: it is ~380 bytes.
+inline PathWorld path_world(const RenderContext& ctx) { return {ctx.accel.scene_view(), ctx.lights.view(), ctx.accel.ray_epsilon()}; }
 
 struct FrameInfo {
   int index = 0;                 // frame number in the sequence

@@ -15,8 +15,9 @@
 namespace rl {
 
 enum class SamplePattern { center, stratified, halton, msaa, random };
-// Where the wavefront stages run (ARCHITECTURE.md, "Backends"): the CPU (Embree), or CUDA.
-enum class Backend { cpu, cuda };
+// Where the frame's stages run (ARCHITECTURE.md, "Backends"): the CPU (Embree), CUDA, or the CUDA
+// backend's code on the CPU's threads (its own BVH, host memory): a GPU-less check of the GPU path.
+enum class Backend { cpu, cuda, cpu_bvh };
 enum class PixelFilter { box, triangle, gaussian };
 enum class MisHeuristic { balance, power };
 // ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
@@ -39,7 +40,8 @@ template <> struct EnumNames<SamplePattern> {
       {SamplePattern::random, "random"}}};
 };
 template <> struct EnumNames<Backend> {
-  static constexpr std::array<std::pair<Backend, const char*>, 2> values{{{Backend::cpu, "cpu"}, {Backend::cuda, "cuda"}}};
+  static constexpr std::array<std::pair<Backend, const char*>, 3> values{
+      {{Backend::cpu, "cpu"}, {Backend::cuda, "cuda"}, {Backend::cpu_bvh, "cpu-bvh"}}};
 };
 template <> struct EnumNames<PixelFilter> {
   static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
@@ -216,8 +218,9 @@ void visit_options(O& o, V& v) {
   v("render.frames", o.render.frames, "frames in the sequence (camera animation spans them)", Range{1, 100000});
   v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
   v("render.backend", o.render.backend,
-    "where the frame is computed: cpu (Embree, all cores) or cuda (an NVIDIA GPU: the scene, its BVH and every "
-    "wavefront stage on the device; builds with -DRESTIR_CUDA=ON; pt and ReSTIR DI, GI, PT in static scenes; not ssr)");
+    "where the frame is computed: cpu (Embree, all cores), cuda (an NVIDIA GPU: the scene, its BVH and every stage "
+    "on the device; builds with -DRESTIR_CUDA=ON; pt and ReSTIR DI, GI, PT; not ssr) or cpu-bvh (the CUDA backend's "
+    "code, its own BVH, on the CPU's cores: slower than cpu, for checking the GPU path on a machine without one)");
   v("render.sample_pattern", o.render.sample_pattern,
     "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "
     "stratified (4x4 strata cycled over frames at 1-8 spp), halton, msaa (Direct3D 8x positions cycled over frames; 16x "

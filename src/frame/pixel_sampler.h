@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "frame/options.h"
+#include "scene/camera.h"
 
 namespace rl {
 
@@ -105,6 +106,32 @@ RESTIR_HD inline Vec2 filter_offset(PixelFilter filter, float radius, Vec2 u, Pc
     }
   }
   return {0, 0};
+}
+
+// The options a camera ray depends on (a plain copy of the render options' fields).
+struct CameraSampling {
+  uint64_t seed = 0;
+  int spp = 1;
+  SamplePattern pattern = SamplePattern::halton;
+  PixelFilter filter = PixelFilter::box;
+  float filter_radius = 0.5f;
+};
+inline CameraSampling camera_sampling(const Options& o) {
+  return {o.render.seed, o.render.spp, o.render.sample_pattern, o.film.filter, o.film.filter_radius};
+}
+
+// Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
+RESTIR_HD inline Ray camera_ray(const CameraSampling& cs, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {
+  const uint32_t pixel = uint32_t(y) * uint32_t(camera.width()) + uint32_t(x);
+  // The stream and the pixel hash only where the pattern or filter reads them: seeding a stream
+  // hashes six times, and the default Halton pattern with a box filter reads none of it (issue 9).
+  Pcg32 rng;
+  if (sampling_uses_rng(cs.pattern, cs.filter))
+    rng = make_rng(pixel, uint32_t(frame), RngPass::camera, cs.seed, uint32_t(sample));
+  const uint64_t pixel_hash = cs.pattern == SamplePattern::halton ? mix64(hash_combine(cs.seed, pixel)) : 0;
+  const Vec2 u = pattern_sample(cs.pattern, uint64_t(frame) * uint64_t(cs.spp) + uint64_t(sample), cs.spp, pixel_hash, rng);
+  const Vec2 o = filter_offset(cs.filter, cs.filter_radius, u, rng);
+  return camera.generate_ray({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y});
 }
 
 }  // namespace rl

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "backends/bvh_queries.h"
 #include "backends/cuda/cuda_queries.h"
 #include "core/parallel.h"
 #include "frame/integrator.h"
@@ -44,9 +45,10 @@ namespace {
 // whose integrators (pt, restir-di, restir-gi, restir-pt) hold their own device copy of the scene;
 // for it, a CUDA backend missing from the build or the machine is an option error here, before
 // anything is built.
-std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene&) {
+std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene& scene) {
   if (backend == Backend::cuda)
     if (const std::string why = cuda_unavailable_reason(); !why.empty()) throw OptionError("render.backend = cuda: " + why);
+  if (backend == Backend::cpu_bvh) return std::make_unique<BvhQueries>(scene);
   return nullptr;
 }
 void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {

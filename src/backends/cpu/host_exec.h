@@ -4,12 +4,16 @@
 //   Exec::Store                 where uploaded views live (view_upload.h)
 //   Exec::Array<T>              a growing buffer: data, capacity, reserve(n), swap(other)
 //   Exec::zero / upload / download (buffer <-> host memory, n elements)
-//   Exec::for_pixels(w, h, f, what)   f(x, y) for every pixel, all done on return
+//   Exec::mirror(a, host, n)          the host array as the stages read it: itself here (no copy),
+//                                     a copy in a on the device
+//   Exec::for_pixels(w, h, f, what, progress)   f(x, y) for every pixel, all done on return
+//                                     (progress(done, total) after each tile where the policy can)
 //   Exec::for_each(n, f, what)        f(i) for i < n, all done on return
 #pragma once
 #include <algorithm>
 #include <cstddef>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <type_traits>
 #include <utility>
@@ -59,9 +63,13 @@ struct HostExec {
   static void download(T* host, const Array<T>& a, size_t n) {
     std::copy_n(a.data, n, host);
   }
+  template <class T>
+  static const T* mirror(Array<T>&, const T* host, size_t n) {
+    return n ? host : nullptr;
+  }
   template <class F>
-  static void for_pixels(int width, int height, const F& f, const char*) {
-    parallel_for_pixels(width, height, [&](int x, int y) { f(x, y); });
+  static void for_pixels(int width, int height, const F& f, const char*, const std::function<void(int, int)>& progress = {}) {
+    parallel_for_pixels(width, height, [&](int x, int y) { f(x, y); }, progress);
   }
   template <class F>
   static void for_each(size_t n, const F& f, const char*) {

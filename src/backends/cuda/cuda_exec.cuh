@@ -41,9 +41,15 @@ struct CudaExec {
   static void download(T* host, const Array<T>& a, size_t n) {
     if (n) check(cudaMemcpy(host, a.data, n * sizeof(T), cudaMemcpyDeviceToHost), "copying from the device");
   }
-  // Synchronous, so that the caller's StageTimer measures the stage and errors name it.
-  template <class F>
-  static void for_pixels(int width, int height, const F& f, const char* what) {
+  template <class T>
+  static const T* mirror(Array<T>& a, const T* host, size_t n) {
+    upload(a, host, n);
+    return n ? a.data : nullptr;
+  }
+  // Synchronous, so that the caller's StageTimer measures the stage and errors name it. No
+  // progress reports: a launch covers the whole image.
+  template <class F, class Progress = int>
+  static void for_pixels(int width, int height, const F& f, const char* what, const Progress& = {}) {
     const dim3 threads(kPixelBlockX, kPixelBlockY);
     const dim3 blocks((unsigned(width) + kPixelBlockX - 1) / kPixelBlockX, (unsigned(height) + kPixelBlockY - 1) / kPixelBlockY);
     pixels_kernel<<<blocks, threads>>>(width, height, f);

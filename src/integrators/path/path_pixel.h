@@ -6,6 +6,7 @@
 #include "core/sampling.h"
 #include "frame/direction_sampling.h"
 #include "frame/options.h"
+#include "frame/frame_world.h"
 #include "frame/pixel_sampler.h"
 #include "scene/camera.h"
 #include "scene/lights_view.h"
@@ -31,39 +32,6 @@ struct PendingShadow {
   Rgb contribution{0};
   bool valid = false;
 };
-
-// What one bounce reads: the scene, its lights, and the ray offset.
-struct PathWorld {
-  SceneView scene;
-  LightsView lights;
-  float ray_epsilon = 1e-4f;
-};
-
-// The options a camera ray depends on (a plain copy of the render options' fields).
-struct CameraSampling {
-  uint64_t seed = 0;
-  int spp = 1;
-  SamplePattern pattern = SamplePattern::halton;
-  PixelFilter filter = PixelFilter::box;
-  float filter_radius = 0.5f;
-};
-inline CameraSampling camera_sampling(const Options& o) {
-  return {o.render.seed, o.render.spp, o.render.sample_pattern, o.film.filter, o.film.filter_radius};
-}
-
-// Primary ray for sample `sample` of pixel (x, y) in frame `frame`: sample pattern + pixel filter.
-RESTIR_HD inline Ray camera_ray(const CameraSampling& cs, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {
-  const uint32_t pixel = uint32_t(y) * uint32_t(camera.width()) + uint32_t(x);
-  // The stream and the pixel hash only where the pattern or filter reads them: seeding a stream
-  // hashes six times, and the default Halton pattern with a box filter reads none of it (issue 9).
-  Pcg32 rng;
-  if (sampling_uses_rng(cs.pattern, cs.filter))
-    rng = make_rng(pixel, uint32_t(frame), RngPass::camera, cs.seed, uint32_t(sample));
-  const uint64_t pixel_hash = cs.pattern == SamplePattern::halton ? mix64(hash_combine(cs.seed, pixel)) : 0;
-  const Vec2 u = pattern_sample(cs.pattern, uint64_t(frame) * uint64_t(cs.spp) + uint64_t(sample), cs.spp, pixel_hash, rng);
-  const Vec2 o = filter_offset(cs.filter, cs.filter_radius, u, rng);
-  return camera.generate_ray({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y});
-}
 
 // Shadow ray from surface point p (geometric normal ng) to a light sample: toward its point, or
 // unbounded toward the environment. Both next-event estimators (path tracer, ReSTIR GI) use it.
@@ -166,7 +134,7 @@ RESTIR_HD inline bool path_bounce(const PathWorld& w, const PathOptions& opt, Pa
 // rng advances as the path draws from it. The CPU's path_radiance and ReSTIR GI's samples on either
 // backend run this.
 template <class Tracer>
-RESTIR_HD Rgb path_radiance_in(const PathWorld& w, const Tracer& tracer, const PathOptions& opt, Ray ray, Pcg32& rng,
+RESTIR_HD Rgb path_radiance(const PathWorld& w, const Tracer& tracer, const PathOptions& opt, Ray ray, Pcg32& rng,
                                bool skip_first_emission = false, const Hit* first = nullptr) {
   PathState st;
   st.ray = ray;

@@ -19,10 +19,8 @@
 
 namespace rl {
 
-PathWorld path_world(const RenderContext& ctx) { return {ctx.accel.scene_view(), ctx.lights.view(), ctx.accel.ray_epsilon()}; }
-
 namespace {
-// path_radiance_in's Tracer on the CPU that also counts (and, for benchmarks, records) its rays.
+// path_radiance's Tracer on the CPU that also counts (and, for benchmarks, records) its rays.
 struct CountingTracer {
   const Accel* accel;
   PathStats* stats;
@@ -45,16 +43,12 @@ struct CountingTracer {
 
 Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg32& rng, PathStats* stats,
                   bool skip_first_emission) {
-  return path_radiance_in(path_world(ctx), CountingTracer{&ctx.accel, stats}, opt, ray, rng, skip_first_emission);
+  return path_radiance(path_world(ctx), CountingTracer{&ctx.accel, stats}, opt, ray, rng, skip_first_emission);
 }
 
 Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng) {
   const Hit none;  // invalid: the ray escaped
-  return path_radiance_in(path_world(ctx), CountingTracer{&ctx.accel, nullptr}, opt, ray, rng, false, hit ? hit : &none);
-}
-
-Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample) {
-  return camera_ray(camera_sampling(ctx.options), camera, x, y, frame, sample);
+  return path_radiance(path_world(ctx), CountingTracer{&ctx.accel, nullptr}, opt, ray, rng, false, hit ? hit : &none);
 }
 
 namespace {

@@ -29,11 +29,5 @@ Rgb path_radiance(const RenderContext& ctx, const PathOptions& opt, Ray ray, Pcg
 // e.g. a G-buffer's primary hit: the same random numbers and the same result, one ray fewer.
 Rgb path_radiance_from_hit(const RenderContext& ctx, const PathOptions& opt, const Ray& ray, const Hit* hit, Pcg32& rng);
 
-// camera_ray (path_kernel.h) with the render's options.
-Ray camera_ray(const RenderContext& ctx, const PerspectiveCamera& camera, int x, int y, int frame, int sample);
-// What path_bounce (path_kernel.h: one bounce, which path_radiance and the wavefront path tracer
-// both run, so their images agree) and the other per-sample kernels read: the host's views of the
-// context's scene and lights. Build it once per stage, not per sample: it is ~380 bytes.
-PathWorld path_world(const RenderContext& ctx);
 
 }  // namespace rl

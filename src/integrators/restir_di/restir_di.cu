@@ -1,13 +1,13 @@
-// ReSTIR DI's frame (di_frame.h) on the GPU: the CUDA execution policy's kernels, one per stage.
-#include "backends/cuda/cuda_exec.cuh"
-#include "integrators/restir_di/restir_di_frame.h"
+// ReSTIR DI's frame (restir_di_frame.h) on the CUDA backend: one kernel per stage.
+#include "frame/cuda_backend.cuh"
 #include "frame/restir_cuda.h"
+#include "integrators/restir_di/restir_di_frame.h"
 
 namespace rl {
 
 std::unique_ptr<Integrator> make_cuda_restir_di(const RenderContext& ctx) {
   cuda::check(cudaSetDevice(0), "selecting device 0");
-  return std::make_unique<DiFrameRenderer<cuda::CudaExec>>(ctx);
+  return std::make_unique<RestirDiFrame<CudaBackend>>(ctx);
 }
 
 }  // namespace rl

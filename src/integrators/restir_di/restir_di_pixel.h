@@ -1,15 +1,15 @@
-// ReSTIR DI's per-pixel stages (issue 16): the initial resampling, the target function, the
-// reuse bridge of a static scene, and the shading, RESTIR_HD over device-shaped views and a
-// `Tracer` -- anything with
-//   bool occluded(const Ray&) const;            // any hit in [tmin, tmax]
-//   bool intersect(const Ray&, Hit&) const;     // closest hit
-// The CPU's ReSTIR DI runs them with AccelTracer (Embree, di_sampling.h), the CUDA backend's
-// kernels with BvhTracer (bvh_traverse.h): one implementation of every weight for both.
-// di_sampling.h documents the math; the comments here say only what differs between the two.
+// ReSTIR DI's per-pixel stages: the initial resampling, the target function, the reuse bridge and
+// the shading, RESTIR_HD over a FrameWorld and its Tracer (frame_world.h), so that every backend
+// runs one implementation of every weight (EmbreeTracer on the CPU, BvhTracer on the others).
+// A DI sample is a point on an emitter (area measure), a direction of the environment (solid
+// angle) or a point light (counting measure) (Bitterli et al. 2020, §3-4). These measures do not
+// depend on the shading point, so the shift between pixels is the identity with jacobian 1 and a
+// reservoir can be reused as is.
 #pragma once
 #include "integrators/restir_di/di_candidates.h"
 #include "integrators/restir_di/di_kernel.h"
 #include "integrators/path/path_pixel.h"
+#include "frame/frame_world.h"
 #include "frame/reuse_pixel.h"
 #include "restir/reservoir.h"
 
@@ -19,7 +19,7 @@ using DiReservoir = restir::Reservoir<LightPoint>;
 // RTXDI's packed DI reservoir is 32 bytes (issue 9: ours must be no larger).
 static_assert(sizeof(DiReservoir) <= 32, "ReSTIR DI's reservoir outgrew RTXDI's 32 bytes");
 
-// di_eval_light_candidates compiled for the host CPU's widest vectors (di_sampling.cpp).
+// di_eval_light_candidates compiled for the host CPU's widest vectors (light_tiles.cpp).
 uint32_t di_eval_light_candidates_host(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
                                        DiCandidateBatch& b);
 
@@ -31,7 +31,7 @@ RESTIR_HD inline LightPoint di_trace_to_light(const PathWorld& w, const Tracer& 
   Hit hit;
   if (tracer.intersect(spawn_ray(s.p, s.ng, wi, w.ray_epsilon), hit)) {
     const SurfaceInteraction si = surface_interaction(w.scene, Ray{s.p, wi}, hit);
-    y.emitter = si.is_sphere ? w.lights.sphere_emitter(si.prim) : w.lights.triangle_emitter(si.geom, si.prim);
+    y.emitter = w.lights.emitter_at(si);
     y.position = si.p;
   } else if (w.lights.has_environment()) {
     y.emitter = w.lights.environment_emitter();
@@ -40,10 +40,10 @@ RESTIR_HD inline LightPoint di_trace_to_light(const PathWorld& w, const Tracer& 
   return y;
 }
 
-// Target function p̂ = luminance of the unshadowed integrand (times visibility when `visibility`),
-// with `lights` (the world's, or an animated scene's previous ones).
+// Target function p̂ = luminance of the unshadowed integrand di_unshadowed (di_kernel.h; times
+// visibility when `visibility`), with `lights` (the world's, or an animated scene's previous ones).
 template <class Tracer>
-RESTIR_HD inline float di_target_in(const LightsView& lights, float eps, const Tracer& tracer, const GSurface& s, const LightPoint& y,
+RESTIR_HD inline float di_target(const LightsView& lights, float eps, const Tracer& tracer, const GSurface& s, const LightPoint& y,
                                     bool visibility) {
   Ray shadow;
   const float t = luminance(di_unshadowed(lights, s, y, eps, visibility ? &shadow : nullptr));
@@ -235,9 +235,17 @@ RESTIR_HD void DiInitialResampler<Tracer>::bsdf_candidates(int count, Pcg32& rng
   }
 }
 
-// di_initial_reservoir (di_sampling.h) over views.
+// Initial resampling (Talbot et al. 2005 RIS with the balance heuristic over the two strategies):
+// light_candidates from the light sampler (emitter by the selection pmf -- from the pixel's tile
+// when there is one, see LightTiles -- then a point on it for this surface, sample_emitter: the
+// visible cap of a sphere, uniform by area on triangles) and bsdf_candidates by tracing BSDF
+// samples to emitters, each with resampling weight p̂(x) / (M_l p_l(x) + M_b p_b(x)) (pdfs in the
+// sample measure). Confidence = M_l + M_b. With `visibility`, the chosen sample is shadow-tested
+// and its weight zeroed if occluded, making the reservoir's target p̂·V (Bitterli et al. 2020, §4.4
+// "visibility reuse"). A light candidate that picks the environment takes its direction from the
+// tile's environment directions when there are some, instead of sampling the map.
 template <class Tracer>
-RESTIR_HD inline DiReservoir di_initial_reservoir_in(const PathWorld& w, const Tracer& tracer, const GSurface& s, int light_candidates,
+RESTIR_HD inline DiReservoir di_initial_reservoir(const PathWorld& w, const Tracer& tracer, const GSurface& s, int light_candidates,
                                                      int bsdf_candidates, bool visibility, Pcg32& rng, const DiTileView& tile) {
   DiInitialResampler<Tracer> ris(w, tracer, s, light_candidates, bsdf_candidates, visibility);
   DiReservoir& r = ris.reservoir();
@@ -245,16 +253,17 @@ RESTIR_HD inline DiReservoir di_initial_reservoir_in(const PathWorld& w, const T
   ris.light_candidates(light_candidates, rng, tile);
   ris.bsdf_candidates(bsdf_candidates, rng);
   restir::finalize(r);
-  if (visibility && r.has_sample() && !(di_target_in(w.lights, w.ray_epsilon, tracer, s, r.sample, true) > 0)) {  // visibility reuse
+  if (visibility && r.has_sample() && !(di_target(w.lights, w.ray_epsilon, tracer, s, r.sample, true) > 0)) {  // visibility reuse
     r.ucw = 0;
     r.target = 0;
   }
   return r;
 }
 
-// di_specular (di_sampling.h) over views.
+// Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
+// follows the specular direction and returns the throughput-weighted emission it sees.
 template <class Tracer>
-RESTIR_HD inline Rgb di_specular_in(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
+RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   BsdfSample bs;
   const Frame shading = s.frame();
   const Vec3 wo_l = shading.to_local(s.wo);
@@ -266,25 +275,39 @@ RESTIR_HD inline Rgb di_specular_in(const PathWorld& w, const Tracer& tracer, co
   Hit hit;
   if (!tracer.intersect(spawn_ray(s.p, s.ng, wi, w.ray_epsilon), hit)) return beta * w.lights.environment_radiance(wi);
   const SurfaceInteraction si = surface_interaction(w.scene, Ray{s.p, wi}, hit);
-  const uint32_t e = si.is_sphere ? w.lights.sphere_emitter(si.prim) : w.lights.triangle_emitter(si.geom, si.prim);
+  const uint32_t e = w.lights.emitter_at(si);
   return e == kNoEmitter ? Rgb(0) : beta * w.lights.emitted(e, si.ng, -wi);
 }
 
-// The bridge of mis.h for DI in a scene where nothing moves: the identity shift (all domains share
-// the emitters' area measure), targets evaluated at each domain's own primary surface. The CPU's
-// bridge adds an animated scene's history (restir_di.cpp) and hands everything else to this one.
+// The bridge of mis.h for DI: the identity shift (all domains share the emitters' area measure),
+// targets evaluated at each domain's own primary surface.
+// In an animated scene the temporal pass's history (domain 1) lives in the previous frame: its
+// samples move with their emitters into this frame (LightsView::follow: rigid motion, Jacobian 1 in
+// area measure), and its target is the previous frame's -- the point carried back, the previous
+// lights' emission (a light switched on since has none there). That keeps the history's MIS weight
+// at 0 wherever the history could not have produced a sample (GRIS, Lin et al. 2022, sec. 5: the
+// weights must vanish outside each domain's support), e.g. where a light moved into view;
+// evaluating it with this frame's lights instead left -20 to -40 % on the dynamic room's glossy
+// block (di.history_scene = current keeps that shortcut, named and measured as biased).
+// Visibility in the history's target is tested in the previous frame's BVH (FrameWorld's previous
+// world, kept by the renderer when the target includes visibility): the history only holds samples
+// that were visible a frame earlier, so near a moving occluder's shadow this frame's BVH would give
+// it the wrong support.
 template <class Tracer>
-struct DiViewBridge {
-  const PathWorld* world;
-  const Tracer* tracer;
+struct DiBridges;
+
+template <class Tracer>
+struct DiBridge {
+  const DiBridges<Tracer>* b;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
-  bool canonical_visibility;        // the canonical target includes visibility
-  bool other_visibility;            // other domains' targets include visibility
   bool temporal;                    // domain 1 is the previous frame
-  bool static_scene;                // nothing moves: last frame's scene is this frame's
-  RESTIR_HD bool shift_to_canonical(int, const LightPoint& y, LightPoint& x, float& jacobian) const {
+  RESTIR_HD bool history_lights() const { return temporal && b->fw.has_previous_lights; }
+  RESTIR_HD bool history_scene() const { return temporal && b->fw.has_previous && !b->history_visibility_now; }
+  RESTIR_HD bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
     x = y;
     jacobian = 1;
+    Vec3 normal;  // follow's; a LightPoint derives its normal from its emitter
+    if (i == 1 && history_lights()) return b->fw.world.lights.follow(y.emitter, b->fw.previous_lights, x.position, normal);
     return true;
   }
   // A reservoir's target is di_target at its own surface with the canonical visibility flag: the
@@ -292,11 +315,33 @@ struct DiViewBridge {
   // same flag and the same scene: a spatial neighbour of this frame, or the history of a static
   // scene (computed last frame at surfaces[1], in the same scene and lights).
   RESTIR_HD bool stored_target_valid(int i) const {
-    return i == 0 || (canonical_visibility == other_visibility && (!temporal || static_scene));
+    return i == 0 || (b->canonical_visibility == b->other_visibility && (!temporal || !b->fw.animated));
   }
   RESTIR_HD float target_from(int i, const LightPoint& x) const {
-    return di_target_in(world->lights, world->ray_epsilon, *tracer, *surfaces[i], x, i == 0 ? canonical_visibility : other_visibility);
+    const FrameWorld<Tracer>& fw = b->fw;
+    const bool lights = history_lights(), scene = history_scene();
+    if (i == 1 && b->history_in_previous && (lights || scene)) {
+      LightPoint back = x;  // where x was one frame earlier
+      Vec3 normal;
+      if (lights && !fw.previous_lights.follow(x.emitter, fw.world.lights, back.position, normal)) return 0;
+      const LightsView& then = lights ? fw.previous_lights : fw.world.lights;
+      if (scene) return di_target(then, fw.previous_world.ray_epsilon, fw.previous_tracer, *surfaces[1], back, b->other_visibility);
+      return di_target(then, fw.world.ray_epsilon, fw.tracer, *surfaces[1], back, b->other_visibility);
+    }
+    return di_target(fw.world.lights, fw.world.ray_epsilon, fw.tracer, *surfaces[i], x,
+                        i == 0 ? b->canonical_visibility : b->other_visibility);
   }
+};
+
+// The bridges of one frame, made per pixel by the reuse stages (reservoir_chain.h).
+template <class Tracer>
+struct DiBridges {
+  FrameWorld<Tracer> fw;
+  bool canonical_visibility;    // the canonical target includes visibility (di.visibility_reuse)
+  bool other_visibility;        // other domains' targets include visibility (... and di.neighbor_visibility)
+  bool history_in_previous;     // di.history_scene = previous
+  bool history_visibility_now;  // a planted bias (planted_bias.h): the history's visibility in this frame's BVH
+  RESTIR_HD DiBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
 };
 
 // The final shading of a pixel: f(y) W, with visibility traced unless the target already included
@@ -308,7 +353,7 @@ RESTIR_HD inline Rgb di_shade(const PathWorld& w, const Tracer& tracer, const GS
   if (!sf.valid) return L;
   if (bsdf_is_delta(sf.bsdf)) {
     Pcg32 rng = make_rng(pixel, frame, RngPass::misc, seed, chain);
-    L += di_specular_in(w, tracer, sf, rng);
+    L += di_specular(w, tracer, sf, rng);
   } else if (r.has_sample()) {
     Ray shadow;
     Rgb contrib = di_unshadowed(w.lights, sf, r.sample, w.ray_epsilon, &shadow) * r.ucw;

@@ -1,10 +1,11 @@
-// ReSTIR GI's per-pixel pieces (restir_gi.cpp documents the method), RESTIR_HD over device-shaped
-// views and a Tracer (di_pixel.h): the sample, its integrand and target, the reconnection shift's
-// bridge in a scene where nothing moves, the initial sample and the direct light. The CPU's
-// restir-gi runs them on Embree, the CUDA backend's kernels (gi_frame.h) on its BVH.
+// ReSTIR GI's per-pixel pieces (restir_gi_frame.h documents the method), RESTIR_HD over a
+// FrameWorld and its Tracer (frame_world.h): the sample, its integrand and target, the
+// reconnection shift's bridge, the initial sample and the direct light, one implementation for
+// every backend.
 #pragma once
 #include "frame/gbuffer.h"
 #include "integrators/path/path_pixel.h"
+#include "frame/frame_world.h"
 #include "frame/reuse_pixel.h"
 #include "restir/reservoir.h"
 #include "restir/shift.h"
@@ -40,7 +41,7 @@ RESTIR_HD inline Rgb gi_integrand(const GSurface& s, const GiSample& x) {
 // The target: luminance of the integrand (gi.target = contribution) or of the cached radiance
 // (radiance), times visibility of x_s from s when asked.
 template <class Tracer>
-RESTIR_HD float gi_target_in(const PathWorld& w, const Tracer& tracer, GiTarget kind, const GSurface& s, const GiSample& x,
+RESTIR_HD float gi_target(const PathWorld& w, const Tracer& tracer, GiTarget kind, const GSurface& s, const GiSample& x,
                              bool visibility) {
   const Rgb v = gi_integrand(s, x);
   if (is_black(v)) return 0;
@@ -57,35 +58,108 @@ RESTIR_HD inline float gi_jacobian(const GiSample& x, Vec3 from, Vec3 to) {
   return x.infinite ? 1.0f : restir::reconnection_jacobian(from, to, x.position, x.normal);
 }
 
-// The bridge of mis.h for GI where nothing moves: the reconnection shift (x_s kept, its cached
-// radiance with it) and each domain's target at its own visible point.
+// The animation moving x_s's surface (-1: none).
+RESTIR_HD inline int gi_animation_of(const SceneView& scene, const GiSample& x) {
+  if (x.infinite) return -1;
+  if (x.geom < scene.mesh_count) return scene.meshes[x.geom].animation;
+  if (x.geom == scene.mesh_count && x.prim < scene.sphere_count) return scene.spheres[x.prim].animation;
+  return -1;
+}
+
+// x carried by a rigid motion per animation (motion[a], count of them), its radiance not yet
+// re-estimated.
+RESTIR_HD inline GiSample gi_carried(const SceneView& scene, const Mat4* motion, uint32_t count, const GiSample& x) {
+  GiSample y = x;
+  const int a = gi_animation_of(scene, x);
+  if (a >= 0 && uint32_t(a) < count) {
+    y.position = motion[a].apply_point(x.position);
+    y.normal = normalize(motion[a].apply_vector(x.normal));
+  }
+  return y;
+}
+
+// x with its radiance re-estimated in world w as seen from s: x's path stream replayed from x_s
+// (0 where s does not see x_s). The visibility test comes first: it spares the path.
 template <class Tracer>
-struct GiViewBridge {
-  const PathWorld* world;
-  const Tracer* tracer;
-  GiTarget kind;
-  const GSurface* const* surfaces;
+RESTIR_HD GiSample gi_replayed(const PathWorld& w, const Tracer& tracer, const PathOptions& path, const GSurface& s, GiSample x) {
+  const float eps = w.ray_epsilon;
+  const Ray shadow = x.infinite ? spawn_ray(s.p, s.ng, x.position, eps) : spawn_ray_to(s.p, s.ng, x.position, x.normal, eps);
+  x.radiance = Rgb(0);
+  if (!s.valid || tracer.occluded(shadow)) return x;
+  const Vec3 dir = x.infinite ? x.position : normalize(x.position - s.p);
+  Pcg32 stream = x.suffix;
+  x.radiance = path_radiance(w, tracer, path, spawn_ray(s.p, s.ng, dir, eps), stream, /*skip_first_emission=*/true);
+  return x;
+}
+
+// The bridge of mis.h for GI: the reconnection shift (x_s kept, its cached radiance with it) and
+// each domain's target at its own visible point.
+// Temporal reuse in an animated scene (FrameWorld's previous world kept): domain 1 is the previous
+// frame, whose cached radiance belongs to that frame's scene (see restir_gi.cpp): its shift carries
+// x_s with its object's rigid motion and re-estimates L_o by replaying the sample's stream in this
+// frame's scene (random replay of the suffix, GRIS §6.1: the identity in primary sample space,
+// Jacobian 1); the reconnection Jacobian uses x_s's geometry in each frame (restir/shift.h). For
+// the MIS weights, this frame's samples are carried back and replayed in the previous frame's
+// scene and BVH, so that each frame's target is its own scene's, as GRIS requires.
+template <class Tracer>
+struct GiBridges;
+
+template <class Tracer>
+struct GiBridge {
+  const GiBridges<Tracer>* b;
+  const GSurface* const* surfaces;  // surfaces[i] = domain i's visible point, 0 = canonical
+  bool temporal;
+  // Domain 1 is another frame's, replayed across the frames (an animated scene's history).
+  RESTIR_HD bool across_frames() const { return temporal && b->fw.has_previous && b->replay_history; }
+  // Another domain's stored target is p̂_i(y) at its own visible point, visibility included, and
+  // the shift keeps x = y with |∂T_{0→i}/∂x| = 1 / |∂T_{i→0}/∂y| (ReSTIR GI eq. 11 both ways). So
+  // combine() reads p̂_i(y) / jacobian (mis.h) instead of tracing domain i's shadow ray to x again
+  // -- except for an animated scene's history, whose stored target was computed in the other
+  // frame's scene and whose shift is a replay between frames.
+  RESTIR_HD bool stored_target_valid(int i) const { return i > 0 && !(i == 1 && temporal && b->fw.animated); }
   RESTIR_HD bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
+    const FrameWorld<Tracer>& fw = b->fw;
+    if (i == 1 && across_frames()) {
+      x = gi_replayed(fw.world, fw.tracer, b->path, *surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
+      jacobian = x.infinite ? 1.0f
+                            : restir::moved_reconnection_jacobian(surfaces[1]->p, y.position, y.normal, surfaces[0]->p, x.position,
+                                                                  x.normal);
+      return jacobian > 0;
+    }
     x = y;
     jacobian = gi_jacobian(y, surfaces[i]->p, surfaces[0]->p);
     return jacobian > 0;
   }
-  // Another domain's stored target is p̂_i(y) at its own visible point, visibility included (this
-  // scene: nothing moves, so last frame's history too), and the shift keeps x = y with
-  // |∂T_{0→i}/∂x| = 1 / |∂T_{i→0}/∂y| (ReSTIR GI eq. 11 both ways). So combine() reads p̂_i(y) /
-  // jacobian (mis.h) instead of tracing domain i's shadow ray to x again.
-  RESTIR_HD bool stored_target_valid(int i) const { return i > 0; }
   RESTIR_HD float target_from(int i, const GiSample& x) const {
-    const float t = gi_target_in(*world, *tracer, kind, *surfaces[i], x, true);
+    const FrameWorld<Tracer>& fw = b->fw;
+    if (i == 1 && across_frames()) {
+      const GiSample back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, *surfaces[1],
+                                        gi_carried(fw.world.scene, fw.back, fw.animation_count, x));
+      const float t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, *surfaces[1], back, false);  // visibility: in gi_replayed
+      return x.infinite ? t
+                        : t * restir::moved_reconnection_jacobian(surfaces[0]->p, x.position, x.normal, surfaces[1]->p, back.position,
+                                                                  back.normal);
+    }
+    const float t = gi_target(fw.world, fw.tracer, b->kind, *surfaces[i], x, true);
     return i == 0 ? t : t * gi_jacobian(x, surfaces[0]->p, surfaces[i]->p);
   }
+};
+
+// The bridges of one frame, made per pixel by the reuse stages (reservoir_chain.h).
+template <class Tracer>
+struct GiBridges {
+  FrameWorld<Tracer> fw;
+  GiTarget kind;
+  PathOptions path;     // the sample's path: path.max_depth - 1 bounces
+  bool replay_history;  // false: a planted bias (planted_bias.h) keeps an animated history's cached radiance
+  RESTIR_HD GiBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
 };
 
 // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of `path` bounces,
 // path.max_depth = the integrator's - 1). A delta lobe gets no sample: a plain path estimate goes
 // to `specular` instead.
 template <class Tracer>
-RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, const PathOptions& path, GiTarget kind, const GSurface& s,
+RESTIR_HD GiReservoir gi_initial(const PathWorld& w, const Tracer& tracer, const PathOptions& path, GiTarget kind, const GSurface& s,
                                     Pcg32& rng, Rgb& specular) {
   GiReservoir r;
   r.confidence = 1;
@@ -99,12 +173,12 @@ RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, co
   const Vec3 wi = shading.to_world(bs.wi);
   const Ray ray = spawn_ray(s.p, s.ng, wi, w.ray_epsilon);
   if (bs.is_delta) {  // no NEE and no reconnection through a delta lobe: a plain path estimate
-    specular = bs.f * std::fabs(bs.wi.z) / bs.pdf * path_radiance_in(w, tracer, path, ray, rng);
+    specular = bs.f * std::fabs(bs.wi.z) / bs.pdf * path_radiance(w, tracer, path, ray, rng);
     return r;
   }
   GiSample x;
   x.suffix = rng;  // the stream path_radiance draws from, for replays in other frames
-  x.radiance = path_radiance_in(w, tracer, path, ray, rng, /*skip_first_emission=*/true);
+  x.radiance = path_radiance(w, tracer, path, ray, rng, /*skip_first_emission=*/true);
   Hit hit;
   float pdf = bs.pdf;
   if (tracer.intersect(ray, hit)) {
@@ -122,7 +196,7 @@ RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, co
     x.infinite = true;
     x.position = wi;
   }
-  const float t = gi_target_in(w, tracer, kind, s, x, false);  // visible: it was traced
+  const float t = gi_target(w, tracer, kind, s, x, false);  // visible: it was traced
   if (pdf > 0) restir::stream(r, x, t, t / pdf, rng.next_float());
   restir::finalize(r);
   return r;
@@ -131,7 +205,7 @@ RESTIR_HD GiReservoir gi_initial_in(const PathWorld& w, const Tracer& tracer, co
 // Direct light at a non-delta visible point: one light sample (no MIS: the GI samples exclude
 // emission, so light sampling is the only strategy for it).
 template <class Tracer>
-RESTIR_HD Rgb gi_direct_in(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
+RESTIR_HD Rgb gi_direct(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   if (!s.valid || bsdf_is_delta(s.bsdf)) return Rgb(0);
   LightSample ls;
   const float u_select = rng.next_float();

@@ -3,58 +3,40 @@
 #include <cstdio>
 #include <string>
 
+#include "backends/cpu/embree_tracer.h"
 #include "core/widest.h"
-#include "integrators/restir_di/di_sampling.h"
-#include "integrators/path/path_tracer.h"
 #include "integrators/restir_pt/restir_pt_pixel.h"
 
 namespace rl {
 
 PathSettings path_settings(const Options& o) {
-  // Path length, NEE, BSDF sampling and Russian roulette are the path tracer's settings (path.*),
-  // so that restir-pt and its reference render the same integral.
   PathSettings ps;
-  ps.max_depth = o.path.max_depth;
-  ps.nee = o.path.nee;
-  ps.bsdf_sampling = o.path.bsdf_sampling;
-  ps.russian_roulette = o.path.russian_roulette;
-  ps.rr_min_depth = o.path.rr_min_depth;
-  ps.shift = o.pt.shift;
-  ps.roughness_threshold = o.pt.roughness_threshold;
-  ps.distance_threshold = o.pt.distance_threshold;
+  ps.path = o.path;
+  ps.pt = o.pt;
   ps.min_length = o.pt.direct == DirectLighting::restir_di ? 3 : 2;
   return ps;
 }
 
-PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
-                                     int candidates) {
-  return initial_path_reservoir(path_world(ctx), ctx.accel, ps, s, seed, candidates);
-}
-
 // The initial paths and the shifts on the host's widest instruction set (core/widest.h): ReSTIR PT's
 // candidate stage took 20% less time, its spatial pass 18% less (teapots, 640x360, 6 paired runs).
-RL_WIDEST PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
-                                               uint64_t seed, int candidates) {
-  return initial_path_reservoir_in(world, AccelTracer{&accel}, ps, s, seed, candidates);
+RL_WIDEST PathReservoir initial_path_reservoir(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps,
+                                               const GSurface& s, uint64_t seed, int candidates) {
+  return initial_path_reservoir<EmbreeTracer>(world, tracer, ps, s, seed, candidates);
 }
 
-std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed) {
+RL_WIDEST bool shift_path(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const PathSample& base,
+                          const GSurface& y1, PathSample& out, float& jacobian) {
+  return shift_path<EmbreeTracer>(world, tracer, ps, base, y1, out, jacobian);
+}
+
+std::vector<PathSample> walk_paths(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const GSurface& s,
+                                   uint64_t walk_seed) {
   std::vector<PathSample> out;
-  if (!s.valid || ctx.lights.empty()) return out;
+  if (!s.valid || world.lights.empty()) return out;
   pt_detail::Walk w;
-  pt_detail::walk_from(path_world(ctx), AccelTracer{&ctx.accel}, ps, s, walk_seed, w,
+  pt_detail::walk_from(world, tracer, ps, s, walk_seed, w,
                        [&](const pt_detail::OfferedPath& o) { out.push_back(pt_detail::describe_offered(ps, w, o, walk_seed)); });
   return out;
-}
-
-bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1, PathSample& out,
-                float& jacobian) {
-  return shift_path(path_world(ctx), ctx.accel, ps, base, y1, out, jacobian);
-}
-
-RL_WIDEST bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
-                          const GSurface& y1, PathSample& out, float& jacobian) {
-  return shift_path_in(world, AccelTracer{&accel}, ps, base, y1, out, jacobian);
 }
 
 void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out) {

@@ -27,7 +27,7 @@
 
 namespace rl {
 
-class Accel;
+struct EmbreeTracer;
 struct PathWorld;
 
 struct PathSample {
@@ -61,15 +61,12 @@ struct PathSample {
 using PathReservoir = restir::Reservoir<PathSample>;
 static_assert(sizeof(PathReservoir) <= 160, "ReSTIR PT's reservoir outgrew 160 bytes (bench_scaling prints its size)");
 
+// What a walk and a shift read: the path tracer's settings (path.*), so that restir-pt and its
+// reference render the same integral, and ReSTIR PT's own (pt.*) -- the option structs themselves,
+// no second copy of a field or a default.
 struct PathSettings {
-  int max_depth = 3;
-  bool nee = true;
-  bool bsdf_sampling = true;
-  bool russian_roulette = false;
-  int rr_min_depth = 3;    // first vertex d whose continuation may be terminated (as path.rr_min_depth)
-  ShiftMapping shift = ShiftMapping::hybrid;
-  float roughness_threshold = 0.2f;
-  float distance_threshold = 0.1f;
+  PathOptions path;
+  PtOptions pt;
   int min_length = 2;  // shortest path offered (3 when direct lighting comes from ReSTIR DI)
   // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
   // convergence harness must detect (tests/test_planted_bias.cpp). Never false in a render.
@@ -89,29 +86,10 @@ RESTIR_HD inline float roulette_survival(const Bsdf& b) {
   return 1.0f;
 }
 
-// Traces `candidates` walks from the primary surface s and resamples one path among all the
-// paths they contain (NEE connections and BSDF emitter hits, each MIS-weighted): weight
-// luminance(m_t f / p) / candidates. Confidence = candidates. seeds: hash of (pixel, frame, chain).
-PathReservoir initial_path_reservoir(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t seed,
-                                     int candidates);
-
 // Every path that one walk with random stream walk_seed offers from s, as PathSamples (tests: the
 // reconnection index a pixel's own walk assigns to a path, against the one a shift carries).
-std::vector<PathSample> walk_paths(const RenderContext& ctx, const PathSettings& ps, const GSurface& s, uint64_t walk_seed);
-
-// Shifts `base` to the pixel whose primary surface is `y1` with the sample's shift mapping.
-// Returns false if the shift fails (different path structure, invalid vertex, occlusion, zero
-// contribution); else `out` lives in the new domain and jacobian = |∂ȳ/∂x̄|.
-bool shift_path(const RenderContext& ctx, const PathSettings& ps, const PathSample& base, const GSurface& y1,
-                PathSample& out, float& jacobian);
-
-// initial_path_reservoir and shift_path over a PathWorld the caller builds once per frame:
-// path_world(ctx) copies the scene's and the lights' views, ~4% of a ReSTIR PT frame when done
-// for every shift. Same results.
-PathReservoir initial_path_reservoir(const PathWorld& world, const Accel& accel, const PathSettings& ps, const GSurface& s,
-                                     uint64_t seed, int candidates);
-bool shift_path(const PathWorld& world, const Accel& accel, const PathSettings& ps, const PathSample& base,
-                const GSurface& y1, PathSample& out, float& jacobian);
+std::vector<PathSample> walk_paths(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const GSurface& s,
+                                   uint64_t walk_seed);
 
 // pt.direct = restir-di: renders this frame of `direct` (ReSTIR DI on the same primary rays) and
 // adds it to `out`; its stages are recorded in frame.stages as "di.<stage>".

@@ -1,14 +1,15 @@
-// ReSTIR PT's frame (pt_frame.h) on the GPU: the CUDA execution policy's kernels, one per stage;
-// with pt.direct = restir-di, the CUDA ReSTIR DI (restir_di_cuda.cu) adds the direct light.
-#include "backends/cuda/cuda_exec.cuh"
-#include "integrators/restir_pt/restir_pt_frame.h"
+// ReSTIR PT's frame (restir_pt_frame.h) on the CUDA backend: one kernel per stage.
+#include "frame/cuda_backend.cuh"
 #include "frame/restir_cuda.h"
+#include "integrators/restir_pt/restir_pt_frame.h"
 
 namespace rl {
 
+std::unique_ptr<Integrator> make_direct_light(const RenderContext& ctx);  // restir_pt.cpp
+
 std::unique_ptr<Integrator> make_cuda_restir_pt(const RenderContext& ctx) {
   cuda::check(cudaSetDevice(0), "selecting device 0");
-  return std::make_unique<PtFrameRenderer<cuda::CudaExec>>(ctx, &make_cuda_restir_di);
+  return std::make_unique<RestirPtFrame<CudaBackend>>(ctx, make_direct_light(ctx));
 }
 
 }  // namespace rl

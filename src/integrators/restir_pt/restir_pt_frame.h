@@ -1,34 +1,26 @@
-// ReSTIR PT's frame as a sequence of per-pixel stages over flat buffers, written once for any
-// execution policy (host_exec.h), as di_frame.h is for ReSTIR DI: the CUDA backend runs it with
-// cuda::CudaExec (restir_pt_cuda.cu), its host twin with HostExec (frame_twins.cpp).
-// The stages are those of the CPU's restir_pt.cpp, in its order, with its random streams: primary
-// hits, initial paths, temporal reuse, the spatial rounds, shading; with pt.direct = restir-di,
-// di_frame.h's ReSTIR DI on the same policy adds the emission seen and the direct light. Each
-// pixel's work is pt_path_kernel.h's and reuse_pixel.h's, the code the CPU runs.
+// ReSTIR PT (Lin et al. 2022, "Generalized resampled importance sampling: foundations of ReSTIR"),
+// one frame written once for every backend (cpu_backend.h): per pixel sample, a reservoir of full
+// paths from the primary hit, reused from the previous frame and from neighbouring pixels through
+// a shift mapping (reconnection, random replay or hybrid; see pt_path.h), then shaded with one
+// path. The stages: primary hits, initial paths, temporal reuse, the spatial rounds, shading; with
+// pt.direct = restir-di, ReSTIR DI on the same backend adds the emission seen and the direct light.
+// The reference is the path tracer with the same path.* options (emission seen directly at the
+// primary hit is added as is).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "frame/reservoir_chain.h"
 #include "integrators/restir_pt/restir_pt_pixel.h"
-#include "frame/reuse_frame.h"
 
 namespace rl {
 
 namespace pt_frame_detail {
 
-// The reuse bridges of one frame (PtViewBridge over the BVH), made per pixel by the reuse stages.
-struct Bridges {
-  PathWorld world;
-  BvhTracer tracer;
-  PathSettings ps;
-  RESTIR_HD PtViewBridge<BvhTracer> operator()(const GSurface* const* surfaces, int, bool) const {
-    return {&world, &tracer, &ps, surfaces};
-  }
-};
-
+template <class Tracer>
 struct CandidateStage {
-  PathWorld w;
-  BvhTracer tracer;
+  FrameWorld<Tracer> fw;
   PathSettings ps;
   int candidates;
   ReuseFrame f;
@@ -37,7 +29,7 @@ struct CandidateStage {
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * g.width + x);
     const uint64_t path_seed = initial_paths_seed(f.seed, p, f.frame, f.chain);
-    out[p] = initial_path_reservoir_in(w, tracer, ps, g.at(x, y), path_seed, candidates);
+    out[p] = initial_path_reservoir(fw.world, fw.tracer, ps, g.at(x, y), path_seed, candidates);
   }
 };
 
@@ -59,40 +51,51 @@ struct ShadeStage {
 
 }  // namespace pt_frame_detail
 
-template <class Exec>
-class PtFrameRenderer final : public Integrator {
+template <class B>
+class RestirPtFrame final : public Integrator {
  public:
-  // make_direct: ReSTIR DI on the same policy (make_cuda_restir_di, make_host_twin_restir_di),
-  // called when pt.direct = restir-di.
-  PtFrameRenderer(const RenderContext& ctx, std::unique_ptr<Integrator> (*make_direct)(const RenderContext&))
-      : ctx_(ctx), settings_(path_settings(ctx.options)) {
-    check_frame_supported(ctx, "restir-pt");
-    if (ctx.options.pt.direct == DirectLighting::restir_di) direct_ = make_direct(ctx);
+  using Exec = typename B::Exec;
+  using Tracer = typename B::Tracer;
+
+  // direct: ReSTIR DI on the same backend when pt.direct = restir-di (null otherwise). It adds only
+  // to a shaded image: under a debug view it is not made, so that a view of the paths' own
+  // (reconnection-depth) does not reach ReSTIR DI, which refuses it.
+  RestirPtFrame(const RenderContext& ctx, std::unique_ptr<Integrator> direct)
+      : ctx_(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
+    if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
+  }
+
+  bool needs_previous_scene() const override {
+    const Options& o = ctx_.options;
+    return (scene_animated(ctx_.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous) ||
+           (direct_ && direct_->needs_previous_scene());
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     world_.update(ctx_, frame);
-    render_exec_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
+    render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
     // pt.direct = restir-di: ReSTIR DI renders the emission seen and the direct light (same primary
     // rays), the paths only the indirect part (length >= 3).
-    if (direct_ && ctx_.options.render.debug_view == DebugView::none) add_direct_light(*direct_, frame, out);
+    if (direct_) add_direct_light(*direct_, frame, out);
   }
 
  private:
-  using Chain = ExecChain<Exec, PathReservoir>;
+  using Chain = ReservoirChain<B, PathReservoir>;
 
   void render_chain(const FrameInfo& frame, int s, Chain& c) {
     using namespace pt_frame_detail;
     const Options& o = ctx_.options;
     const ReuseFrame f{uint32_t(frame.index), o.render.seed, uint32_t(s)};
-    const BvhTracer tracer{world_.bvh};
-    c.begin_frame(world_, o, frame, s);
+    const FrameWorld<Tracer>& fw = world_.view();
+    c.begin_frame(world_, ctx_, frame, s);
     {
       StageTimer timer(frame.stages, "candidates");
-      Exec::for_pixels(c.width, c.height, CandidateStage{world_.world, tracer, settings_, o.pt.candidates, f, c.view(), c.reservoirs.data},
-                       "ReSTIR PT initial paths");
+      Exec::for_pixels(c.width, c.height, CandidateStage<Tracer>{fw, settings_, o.pt.candidates, f, c.view(), c.reservoirs.data},
+                       "ReSTIR PT initial paths", frame.progress);
     }
-    c.reuse(o.pt.reuse, frame, Bridges{world_.world, tracer, settings_}, f);
+    const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
+    c.reuse(o.pt.reuse, frame,
+            PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f);
     {
       StageTimer timer(frame.stages, "shading");
       const ShadeStage stage{c.view(), c.reservoirs.data, direct_ != nullptr, o.render.debug_view, c.debug(), sum_.data};
@@ -108,10 +111,10 @@ class PtFrameRenderer final : public Integrator {
 
   RenderContext ctx_;
   PathSettings settings_;
-  ExecWorld<Exec> world_;
+  typename B::World world_;
   std::vector<std::unique_ptr<Chain>> chains_;
   typename Exec::template Array<Rgb> sum_;
-  std::unique_ptr<Integrator> direct_;  // ReSTIR DI on the same policy when pt.direct = restir-di
+  std::unique_ptr<Integrator> direct_;
 };
 
 }  // namespace rl

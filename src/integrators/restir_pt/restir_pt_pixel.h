@@ -1,10 +1,12 @@
-// ReSTIR PT's walks and shifts (pt_path.h documents them) over device-shaped views and a Tracer
-// (di_pixel.h: AccelTracer on the CPU, BvhTracer on the GPU): the CPU's restir-pt and the CUDA
-// backend's kernels run this one implementation of every path density, MIS weight and Jacobian.
+// ReSTIR PT's walks, shifts, bridge and shading (pt_path.h documents the paths and shifts), RESTIR_HD
+// over a FrameWorld and its Tracer (frame_world.h): every backend runs this one implementation of
+// every path density, MIS weight and Jacobian.
 #pragma once
 #include "frame/direction_sampling.h"
 #include "integrators/path/path_pixel.h"
 #include "integrators/restir_pt/pt_path.h"
+#include "frame/frame_world.h"
+#include "frame/planted_bias.h"
 #include "frame/reuse_pixel.h"
 #include "restir/shift.h"
 
@@ -55,7 +57,7 @@ RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInt
 }
 
 RESTIR_HD inline uint32_t emitter_of(const PathWorld& world, const SurfaceInteraction& si) {
-  return si.is_sphere ? world.lights.sphere_emitter(si.prim) : world.lights.triangle_emitter(si.geom, si.prim);
+  return world.lights.emitter_at(si);
 }
 
 RESTIR_HD inline bool rough(const Vertex& v, float threshold) { return !v.delta && bsdf_roughness(v.bsdf) >= threshold; }
@@ -129,14 +131,14 @@ RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettin
   if (sampled) t.light_pdf = sampled->pdf;
   else if (!have_pdf) t.light_pdf = world.lights.point_pdf(emitter, pos);
   t.measure = to_measure;
-  t.bsdf_pdf = direction_pdf(v.bsdf, ps.bsdf_sampling, wo_l, wi_l) * to_measure;
+  t.bsdf_pdf = direction_pdf(v.bsdf, ps.path.bsdf_sampling, wo_l, wi_l) * to_measure;
   return t;
 }
 
 // Balance-heuristic weight of the strategy that produced the last vertex (Veach 1997, eq. 9.10);
 // a strategy that is off (no NEE, delta vertex) leaves the other with weight 1.
 RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, bool delta, float light_pdf, float bsdf_pdf) {
-  const bool nee_on = ps.nee && !delta;
+  const bool nee_on = ps.path.nee && !delta;
   if (!nee_on) return nee_tag ? 0.0f : 1.0f;
   const float den = light_pdf + bsdf_pdf;
   if (!(den > 0)) return 0;
@@ -163,7 +165,7 @@ RESTIR_HD Step take_step(const PathWorld& world, const Tracer& tracer, const Pat
   Step st;
   BsdfSample bs;
   const Vec3 wo_l = v.frame.to_local(v.wo);
-  if (!sample_direction(v.bsdf, ps.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return st;
+  if (!sample_direction(v.bsdf, ps.path.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return st;
   const Vec3 wi = v.frame.to_world(bs.wi);
   st.delta = bs.is_delta;
   st.dir = wi;
@@ -182,7 +184,7 @@ RESTIR_HD Step take_step(const PathWorld& world, const Tracer& tracer, const Pat
     st.dir = d / st.distance;
     const Vec3 dl = v.frame.to_local(st.dir);
     st.fcos = bsdf_eval(v.bsdf, wo_l, dl) * std::fabs(dl.z);
-    st.pdf = direction_pdf(v.bsdf, ps.bsdf_sampling, wo_l, dl);
+    st.pdf = direction_pdf(v.bsdf, ps.path.bsdf_sampling, wo_l, dl);
     if (!(st.pdf > 0) || is_black(st.fcos)) return Step{};
   }
   return st;
@@ -205,17 +207,17 @@ struct Walk {
 // arbitrary x_2): such paths get k = 0 and no reconnection shift, in either direction.
 RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos,
                                          bool terminal_is_direction) {
-  if (ps.shift == ShiftMapping::random_replay) return 0;
-  if (ps.shift == ShiftMapping::reconnection) return w.v[1].delta ? 0 : 2;
+  if (ps.pt.shift == ShiftMapping::random_replay) return 0;
+  if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta ? 0 : 2;
   for (int k = 2; k <= n; ++k) {
     const Vertex& prev = w.v[size_t(k - 1)];
-    if (!rough(prev, ps.roughness_threshold)) continue;
+    if (!rough(prev, ps.pt.roughness_threshold)) continue;
     if (k == n) {  // emitters are diffuse emitters: always reconnectable; the environment is infinitely far
-      if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.distance_threshold) return k;
+      if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.pt.distance_threshold) return k;
       continue;
     }
     const Vertex& cur = w.v[size_t(k)];
-    if (rough(cur, ps.roughness_threshold) && length(cur.p - prev.p) >= ps.distance_threshold) return k;
+    if (rough(cur, ps.pt.roughness_threshold) && length(cur.p - prev.p) >= ps.pt.distance_threshold) return k;
   }
   return 0;
 }
@@ -242,7 +244,7 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
     s.rc_normal = normal;
     s.rc_emitter = emitter;
     // Kept for the environment, whose radiance and density depend on x_n's direction alone, so
-    // that a reconnection shift need not look them up again (shift_path_in).
+    // that a reconnection shift need not look them up again (shift_path).
     s.rc_suffix = tail;
     s.rc_tail_light_pdf = t.light_pdf;
     return;
@@ -283,7 +285,7 @@ struct OfferedPath {
 // probability would change along a reconnected suffix and make the shift non-invertible.
 // Returns the survival probability (0 = terminated).
 RESTIR_HD inline float roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u) {
-  if (!ps.russian_roulette || d < ps.rr_min_depth) return 1.0f;
+  if (!ps.path.russian_roulette || d < ps.path.rr_min_depth) return 1.0f;
   const float q = roulette_survival(next.bsdf);
   return u.roulette < q ? q : 0.0f;
 }
@@ -293,14 +295,14 @@ RESTIR_HD inline float roulette(const PathSettings& ps, int d, const Vertex& nex
 template <class Tracer, class Offer>
 RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const GSurface& s,
                          uint64_t walk_seed, Walk& w, const Offer& offer) {
-  const int max_depth = ps.max_depth < kMaxVertices - 2 ? ps.max_depth : kMaxVertices - 2;  // by value (device code)
+  const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
   w.v[1] = vertex_from_surface(s);
   float pdf = 1;
   for (int d = 1; d <= max_depth; ++d) {
     const Vertex& v = w.v[size_t(d)];
     const VertexRandoms u = vertex_randoms(walk_seed, d);
     // Next-event estimation: path x_1..x_d + light point.
-    if (ps.nee && !v.delta) {
+    if (ps.path.nee && !v.delta) {
       EmitterPoint ep;
       SampledEmitter sampled;
       if (world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) {
@@ -385,7 +387,7 @@ RESTIR_HD inline uint64_t initial_paths_seed(uint64_t seed, uint32_t p, uint32_t
 }
 
 template <class Tracer>
-RESTIR_HD PathReservoir initial_path_reservoir_in(const PathWorld& world, const Tracer& tracer, const PathSettings& ps,
+RESTIR_HD PathReservoir initial_path_reservoir(const PathWorld& world, const Tracer& tracer, const PathSettings& ps,
                                                   const GSurface& s, uint64_t seed, int candidates) {
   PathReservoir r;
   r.confidence = float(candidates);
@@ -411,15 +413,15 @@ RESTIR_HD PathReservoir initial_path_reservoir_in(const PathWorld& world, const 
 
 // shift_path (pt_path.h) over views.
 template <class Tracer>
-RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
+RESTIR_HD bool shift_path(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
                              const GSurface& y1, PathSample& out, float& jacobian) {
   if (!y1.valid || base.length < 2 || world.lights.empty()) return false;
   const int n = base.length, k = base.rc;
   // Reconnection: a path from a delta primary vertex is not shiftable (its inverse would need to
   // reconnect from that delta vertex), so the shift fails as its inverse does.
-  if (ps.shift == ShiftMapping::reconnection && k == 0) return false;
+  if (ps.pt.shift == ShiftMapping::reconnection && k == 0) return false;
   const float eps = world.ray_epsilon;
-  const bool hybrid = ps.shift == ShiftMapping::hybrid;
+  const bool hybrid = ps.pt.shift == ShiftMapping::hybrid;
   using namespace pt_detail;
   Vertex v = vertex_from_surface(y1);
   Rgb beta(1);
@@ -430,7 +432,7 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
   // pure-replay path (k = 0) may have no reconnectable pair at all, its last one included.
   const bool check = hybrid && ps.check_invertibility;
   auto reconnectable = [&](const Vertex& a, const Vertex& b, float distance) {
-    return rough(a, ps.roughness_threshold) && rough(b, ps.roughness_threshold) && distance >= ps.distance_threshold;
+    return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
   };
   // Replay the base path's directions at y_1 .. y_{last-1} with its random numbers.
   const int last = k > 0 ? k - 1 : n - 1;  // the vertex that connects to x_k / samples the last vertex
@@ -456,12 +458,12 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     // Emitters are reconnectable (choose_reconnection): a rough y_{n-1} far enough from the emitter
     // point would have made this path's own walk reconnect at k = n.
     auto emitter_reconnectable = [&](bool is_direction, float distance) {
-      return check && rough(v, ps.roughness_threshold) && (is_direction || distance >= ps.distance_threshold);
+      return check && rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
     };
     if (base.nee) {
       EmitterPoint ep;
       SampledEmitter sampled;
-      if (v.delta || !ps.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
+      if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
       const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
       if (emitter_reconnectable(is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
       sampled.pdf = ep.pdf;
@@ -500,7 +502,7 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
   }
 
   // Reconnect y_{k-1} = v to x_k.
-  if (v.delta || (hybrid && !rough(v, ps.roughness_threshold))) return false;
+  if (v.delta || (hybrid && !rough(v, ps.pt.roughness_threshold))) return false;
   float rc_jacobian = 1;
   Rgb f;
   float mis;
@@ -513,7 +515,7 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     const SampledEmitter kept{base.rc_tail_light_pdf, base.rc_suffix};
     const bool reuse = is_dir && world.lights.fixed;
     const Terminal t = eval_terminal(world, ps, v, base.rc_emitter, base.rc_position, base.rc_normal, reuse ? &kept : nullptr);
-    if (hybrid && !is_dir && length(base.rc_position - v.p) < ps.distance_threshold) return false;
+    if (hybrid && !is_dir && length(base.rc_position - v.p) < ps.pt.distance_threshold) return false;
     if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
     f = beta * t.fcos * t.emission * t.geometry;
     mis = strategy_weight(ps, base.nee, v.delta, t.light_pdf, t.bsdf_pdf);
@@ -521,7 +523,7 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     const Vec3 d = base.rc_position - v.p;
     const float d2 = length_squared(d);
     if (!(d2 > 0)) return false;
-    if (hybrid && std::sqrt(d2) < ps.distance_threshold) return false;
+    if (hybrid && std::sqrt(d2) < ps.pt.distance_threshold) return false;
     const Vec3 wi = d / std::sqrt(d2);
     if (tracer.occluded(spawn_ray_to(v.p, v.ng, base.rc_position, base.rc_normal, eps))) return false;
     const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(wi);
@@ -532,7 +534,7 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
     const Rgb fcos_k = bsdf_eval(k_bsdf, k_in, k_out) * std::fabs(k_out.z);
     f = beta * fcos_v * fcos_k * base.rc_suffix;
     if (k == n - 1) {  // x_k is the vertex before the emitter: its BSDF density enters m_t
-      const float bsdf_pdf = direction_pdf(k_bsdf, ps.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
+      const float bsdf_pdf = direction_pdf(k_bsdf, ps.path.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
       mis = strategy_weight(ps, base.nee, bsdf_is_delta(k_bsdf), base.rc_tail_light_pdf, bsdf_pdf);
     } else {
       mis = base.rc_mis;
@@ -548,33 +550,82 @@ RESTIR_HD bool shift_path_in(const PathWorld& world, const Tracer& tracer, const
   return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
 }
 
-// The bridge of mis.h for paths in a scene where nothing moves: shifts evaluate the path at the
-// other pixel's primary hit (restir_pt.cpp's PtBridge adds an animated scene's history and the
-// planted biases of the tests).
+// The CPU backend's copies of initial_path_reservoir and shift_path compiled for the host's widest
+// instruction set (pt_path.cpp, core/widest.h): calls with an EmbreeTracer pick these overloads.
+PathReservoir initial_path_reservoir(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const GSurface& s,
+                                     uint64_t seed, int candidates);
+bool shift_path(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const PathSample& base, const GSurface& y1,
+                PathSample& out, float& jacobian);
+
+// The bridge of mis.h for paths: shifts evaluate the path at the other pixel's primary hit.
+// In an animated scene's temporal pass (pt.history_scene = previous) domain 1 is the previous
+// frame: the history's paths were traced in that frame's scene, and a path is shifted between the
+// frames by random replay -- its random numbers re-traced from the other frame's primary hit in
+// that frame's scene (FrameWorld's previous world, its BVH and its lights). The map is the
+// identity in primary sample space, so the pair of frames is a valid shift with |∂ȳ/∂x̄| =
+// p(x̄)/p(ȳ), each density taken in its own scene (GRIS, Lin et al. 2022, §6.1), and the MIS
+// weights see each domain's own target, which vanishes wherever that frame could not have drawn
+// the path (a light switched off, an occluder moved in): the weights stay a partition of unity
+// over the supports (GRIS §5), which is what unbiasedness needs.
 template <class Tracer>
-struct PtViewBridge {
-  const PathWorld* world;
-  const Tracer* tracer;
-  const PathSettings* ps;
+struct PtBridges;
+
+template <class Tracer>
+struct PtBridge {
+  const PtBridges<Tracer>* b;
   const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
-  RESTIR_HD bool shift_to_canonical(int, const PathSample& y, PathSample& x, float& jacobian) const {
-    return shift_path_in(*world, *tracer, *ps, y, *surfaces[0], x, jacobian);
-  }
+  bool history;                     // domain 1 lives in the previous frame's scene (FrameWorld::previous_world)
+  // Domain 1 is last frame's pixel evaluated in this frame's scene (pt.history_scene = current in an
+  // animated scene): its stored target was computed in the other scene.
+  bool history_in_other_scene;
+  mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
   // Another domain's stored target is p̂_i of its own sample y, computed at its own primary hit in
-  // this scene (nothing moves, so last frame's history too), and shift_path_in maps x = T_{i→0}(y)
-  // back onto y: the prefix is replayed with y's random numbers from the same primary hit, x keeps
-  // y's reconnection vertex and suffix, and the hybrid shift's invertibility check (GRIS §7.2) makes
-  // both walks choose the same reconnection index. So combine() reads p̂_i(y) / jacobian (mis.h)
-  // instead of shifting the path back: one shift, and its rays, fewer per neighbour, as in Lin's
-  // reference implementation. Without the check (a planted bias of the tests) the shifts need not
-  // invert each other, and the target is evaluated.
-  RESTIR_HD bool stored_target_valid(int i) const { return i > 0 && ps->check_invertibility; }
+  // the scene it was made in (an animated history's too, as long as each domain's target is
+  // evaluated in its own frame's scene), and shift_path maps x = T_{i→0}(y) back onto y: the prefix
+  // is replayed with y's random numbers from the same primary hit, x keeps y's reconnection vertex
+  // and suffix, and the hybrid shift's invertibility check (GRIS §7.2) makes both walks choose the
+  // same reconnection index. So combine() reads p̂_i(y) / jacobian (mis.h) instead of shifting the
+  // path back: one shift, and its rays, fewer per neighbour, as in Lin's reference implementation.
+  // Without the check, or under a planted bias of the tests (which acts in target_from), the
+  // target is evaluated.
+  RESTIR_HD bool stored_target_valid(int i) const {
+    return i > 0 && b->ps.check_invertibility && !b->planted_on && !(i == 1 && history_in_other_scene);
+  }
+  RESTIR_HD bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
+    const FrameWorld<Tracer>& fw = b->fw;
+    if (i == 1 && history) return shift_path(fw.previous_world, fw.previous_tracer, b->ps, x, to, y, jacobian);
+    return shift_path(fw.world, fw.tracer, b->ps, x, to, y, jacobian);
+  }
+  RESTIR_HD bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
+    shifting = i;
+    const bool ok = shift_in(0, y, *surfaces[0], x, jacobian);
+    if (b->planted_on) jacobian *= b->planted.jacobian_scale;
+    return ok;
+  }
   RESTIR_HD float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
     float jacobian;
-    if (!shift_path_in(*world, *tracer, *ps, x, *surfaces[i], y, jacobian)) return 0;
-    return luminance(y.contribution) * jacobian;
+    if (!shift_in(i, x, *surfaces[i], y, jacobian)) return 0;
+    float t = luminance(y.contribution) * jacobian;
+    if (b->planted_on) t *= b->planted.jacobian_scale * (i == shifting ? b->planted.own_target_scale : 1.0f);
+    return t;
+  }
+};
+
+// The bridges of one frame, made per pixel by the reuse stages (reservoir_chain.h).
+template <class Tracer>
+struct PtBridges {
+  FrameWorld<Tracer> fw;
+  PathSettings ps;
+  bool history_in_previous;  // pt.history_scene = previous
+  PlantedBias planted;       // tests only (planted_bias.h), when planted_on
+  bool planted_on;
+  RESTIR_HD PtBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const {
+    // pt.history_scene = current evaluates the history in this frame's scene even where the
+    // previous one is kept (for pt.direct = restir-di's ReSTIR DI).
+    const bool past = temporal && fw.has_previous && history_in_previous;
+    return {this, surfaces, past, temporal && !past && fw.animated};
   }
 };
 

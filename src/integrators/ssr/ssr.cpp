@@ -83,13 +83,17 @@ class Ssr final : public Integrator {
     hits_.resize(rays_.size());
     const std::vector<Mat4> back = motion_back(ctx_.scene, frame.index);  // motion vectors (temporal)
     g_.resize(w, h, !back.empty());
+    const CameraSampling cs = camera_sampling(ctx_.options);
+    const SceneView& scene = ctx_.accel.scene_view();
+    const LightsView& lights = ctx_.lights.view();
     parallel_for(h, [&](int y) {
       const size_t row = size_t(y) * size_t(w);
-      for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(ctx_, *frame.camera, x, y, frame.index, s);
+      for (int x = 0; x < w; ++x) rays_[row + size_t(x)] = camera_ray(cs, *frame.camera, x, y, frame.index, s);
       const auto rays = std::span<const Ray>(rays_).subspan(row, size_t(w));
       ctx_.accel.intersect(rays, std::span(hits_).subspan(row, size_t(w)), true);
       for (size_t i = row; i < row + size_t(w); ++i)
-        fill_gsurface(ctx_, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], &back, g_.motion_slot(i));
+        fill_gsurface(scene, lights, rays_[i], hits_[i].valid() ? &hits_[i] : nullptr, g_.pixels[i], back.data(), uint32_t(back.size()),
+                      g_.motion_slot(i));
     });
     hiz_.build(*frame.camera, g_);
   }

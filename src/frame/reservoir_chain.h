@@ -1,43 +1,19 @@
-// The parts of a ReSTIR frame that every integrator's GPU driver shares (di_frame.h, pt_frame.h),
-// written once for any execution policy (host_exec.h): the scene in the policy's memory, one chain
-// of reservoirs with its G-buffers and debug counters, and the stages around the integrator's own
-// -- primary hits, temporal reuse, the spatial rounds, the chains' average -- in the CPU's order
-// (reuse_passes.h: ReservoirChain) with its random streams. Static scenes only so far: an animated
-// scene's history needs the previous frame's lights and BVH in the policy's memory.
+// The one chain of reservoirs of a ReSTIR frame, written once for every backend (cpu_backend.h):
+// one pixel sample's G-buffer and reservoirs, this frame's and last frame's, in the backend's
+// memory, and the stages every ReSTIR integrator shares around its own -- primary hits, temporal
+// reuse, the spatial rounds -- with reuse_pixel.h's per-pixel bookkeeping; then the chains' average.
+// An integrator's frame (restir_di_frame.h, restir_gi_frame.h, restir_pt_frame.h) adds its
+// candidates and shading between them.
 #pragma once
 #include <memory>
 #include <vector>
 
-#include "backends/bvh.h"
-#include "backends/bvh_traverse.h"
-#include "backends/view_upload.h"
 #include "frame/integrator.h"
-#include "integrators/path/path_pixel.h"
 #include "frame/reuse_pixel.h"
 
 namespace rl {
 
-// Throws std::runtime_error when the frame drivers cannot render this context yet: an animated
-// scene, planted biases (a CPU test harness). `integrator` names it in the message.
-void check_frame_supported(const RenderContext& ctx, const char* integrator);
-
-namespace frame_detail {
-
-// build_gbuffer's pixel, traced in the BVH. A static scene: no motion (its maps are empty there too).
-struct PrimaryStage {
-  PathWorld w;
-  BvhView bvh;
-  PerspectiveCamera camera;
-  CameraSampling sampling;
-  int frame, sample;
-  GSurface* g;
-  RESTIR_HD void operator()(int x, int y) const {
-    const Ray ray = camera_ray(sampling, camera, x, y, frame, sample);
-    Hit hit;
-    const bool found = bvh_trace(bvh, ray, false, &hit);
-    fill_gsurface(w.scene, w.lights, ray, found ? &hit : nullptr, g[size_t(y) * size_t(camera.width()) + size_t(x)], nullptr, 0);
-  }
-};
+namespace chain_detail {
 
 template <class Res, class Bridges>
 struct TemporalStage {
@@ -67,71 +43,53 @@ struct SpatialStage {
   RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y); }
 };
 
-// render_chains' average: a division, as the CPU's, for the same rounding.
+// The chains' average: a division (not a product by 1 / spp), for the rounding every backend shares.
 struct AverageStage {
   Rgb* sum;
   float spp;
   RESTIR_HD void operator()(size_t i) const { sum[i] = sum[i] / spp; }
 };
 
-}  // namespace frame_detail
+}  // namespace chain_detail
 
-// The scene, its lights and its BVH in the policy's memory.
-template <class Exec>
-struct ExecWorld {
-  typename Exec::Store store;
-  BvhView bvh;
-  PathWorld world;
-  bool uploaded = false;
-  uint64_t generation = 0;
-  // Copies them (again) when the scene's BVH changed since (FrameRenderer::reset): frame 0 again.
-  void update(const RenderContext& ctx, const FrameInfo& frame) {
-    if (uploaded && ctx.accel.generation() == generation) return;
-    StageTimer timer(frame.stages, "upload");
-    store.clear();
-    generation = ctx.accel.generation();
-    bvh = store_bvh_view(store, build_bvh(ctx.scene));
-    world.scene = store_scene_view(store, ctx.accel.scene_view());
-    world.lights = store_lights_view(store, ctx.lights.view());
-    world.ray_epsilon = ctx.accel.ray_epsilon();
-    uploaded = true;
-  }
-};
-
-// One chain (pixel sample) of reservoirs in the policy's memory: ReservoirChain's buffers and steps.
-template <class Exec, class Res>
-struct ExecChain {
+// One chain (pixel sample) of a ReSTIR integrator on backend B, with reservoirs of type Res.
+template <class B, class Res>
+struct ReservoirChain {
+  using Exec = typename B::Exec;
   template <class T>
   using Array = typename Exec::template Array<T>;
   Array<GSurface> gbuffer, previous_gbuffer;
-  Array<Res> reservoirs, previous, scratch;
+  Array<GMotion> motion;  // this frame's motion vectors, in a scene with animations
+  Array<Res> reservoirs, previous;
+  Array<Res> scratch;  // a reuse pass's output, swapped with reservoirs
   Array<uint8_t> source;
   Array<uint16_t> tried, rejected;
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
-  bool has_history = false;
+  bool has_history = false, has_motion = false;
 
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
-  GBufferView view() const { return {gbuffer.data, width, height}; }
+  GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr}; }
 
-  // Primary hits of chain s, buffers sized for the frame, debug counters cleared.
-  void begin_frame(const ExecWorld<Exec>& w, const Options& o, const FrameInfo& frame, int s) {
+  // Primary hits of chain s, buffers sized for the frame (not cleared: every integrator's candidate
+  // stage writes every pixel's reservoir before anything reads it), debug counters cleared.
+  void begin_frame(const typename B::World& w, const RenderContext& ctx, const FrameInfo& frame, int s) {
     StageTimer timer(frame.stages, "primary");
-    const PerspectiveCamera& camera = *frame.camera;
-    width = camera.width(), height = camera.height();
+    width = frame.camera->width(), height = frame.camera->height();
     const size_t n = size_t(width) * size_t(height);
     gbuffer.reserve(n), previous_gbuffer.reserve(n);
     reservoirs.reserve(n), previous.reserve(n), scratch.reserve(n);
     source.reserve(n), tried.reserve(n), rejected.reserve(n);
     Exec::zero(source, n), Exec::zero(tried, n), Exec::zero(rejected, n);
-    const frame_detail::PrimaryStage stage{w.world, w.bvh, camera, camera_sampling(o), frame.index, s, gbuffer.data};
-    Exec::for_pixels(width, height, stage, "primary hits");
+    has_motion = w.view().animation_count > 0;  // motion only where something can move
+    if (has_motion) motion.reserve(n);
+    B::primary_hits(w, ctx, frame, s, gbuffer.data, has_motion ? motion.data : nullptr);
   }
 
   // Temporal reuse (when there is a compatible history), then the spatial rounds; bridges(surfaces,
   // n, temporal) makes a pixel's bridge (mis.h).
   template <class Bridges>
   void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f) {
-    using namespace frame_detail;
+    using namespace chain_detail;
     if (rp.temporal && has_history && previous_width == width && previous_height == height) {
       StageTimer timer(frame.stages, "temporal");
       const PerspectiveCamera& previous_camera = frame.previous_camera ? *frame.previous_camera : *frame.camera;
@@ -160,11 +118,11 @@ struct ExecChain {
   }
 };
 
-// render_chains for a policy: `spp` chains (made on first use) rendered in order by
-// render_chain(s, chain, sum), each adding its radiance to sum, then averaged into `out`.
+// `spp` chains (made on first use) rendered in order by render_chain(s, chain), each adding its
+// radiance to sum, then averaged into `out`.
 template <class Exec, class Chain, class RenderChain>
-void render_exec_chains(std::vector<std::unique_ptr<Chain>>& chains, int spp, typename Exec::template Array<Rgb>& sum, Image& out,
-                        const RenderChain& render_chain) {
+void render_chains(std::vector<std::unique_ptr<Chain>>& chains, int spp, typename Exec::template Array<Rgb>& sum, Image& out,
+                   const RenderChain& render_chain) {
   if (int(chains.size()) != spp) {
     chains.clear();
     for (int s = 0; s < spp; ++s) chains.push_back(std::make_unique<Chain>());
@@ -173,7 +131,7 @@ void render_exec_chains(std::vector<std::unique_ptr<Chain>>& chains, int spp, ty
   sum.reserve(pixels);
   Exec::zero(sum, pixels);
   for (int s = 0; s < spp; ++s) render_chain(s, *chains[size_t(s)]);
-  Exec::for_each(pixels, frame_detail::AverageStage{sum.data, float(spp)}, "averaging the chains");
+  Exec::for_each(pixels, chain_detail::AverageStage{sum.data, float(spp)}, "averaging the chains");
   Exec::download(out.pixels.data(), sum, pixels);
 }
 

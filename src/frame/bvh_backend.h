@@ -1,0 +1,111 @@
+// The BVH backends of the frames: the project's own BVH (backends/bvh.h) traversed by the stages
+// themselves (BvhTracer), over an execution policy -- the CUDA backend (cuda::CudaExec, device
+// memory, one kernel per stage: cuda_backend.cuh) and its host twin (HostExec: host memory, the
+// CPU's threads; render.backend = cpu-bvh), which runs in CI the very code the GPU runs, without
+// a GPU. cpu_backend.h documents what a backend gives the frames.
+//
+// The world is copied into the policy's memory (Exec::Store) when the scene changed since the last
+// copy (an animated scene: every frame), the previous frame's scene, BVH and lights too when the
+// frame carries them, so that an animated scene's history is judged in its own frame's scene as on
+// the CPU (GRIS, Lin et al. 2022, sec. 5).
+#pragma once
+#include <vector>
+
+#include "backends/bvh.h"
+#include "backends/bvh_traverse.h"
+#include "backends/view_upload.h"
+#include "frame/cpu_backend.h"
+#include "frame/frame_world.h"
+#include "frame/gbuffer.h"
+#include "frame/pixel_sampler.h"
+#include "scene/animation.h"
+
+namespace rl {
+
+namespace bvh_backend_detail {
+
+// build_gbuffer's pixel (cpu_backend.h), its camera ray traced in the BVH.
+struct PrimaryStage {
+  PathWorld w;
+  BvhView bvh;
+  PerspectiveCamera camera;
+  CameraSampling sampling;
+  int frame, sample;
+  const Mat4* back;
+  uint32_t back_count;
+  GSurface* pixels;
+  GMotion* motion;
+  RESTIR_HD void operator()(int x, int y) const {
+    const Ray ray = camera_ray(sampling, camera, x, y, frame, sample);
+    Hit hit;
+    const bool found = bvh_trace(bvh, ray, false, &hit);
+    const size_t i = size_t(y) * size_t(camera.width()) + size_t(x);
+    fill_gsurface(w.scene, w.lights, ray, found ? &hit : nullptr, pixels[i], back, back_count, motion ? motion + i : nullptr);
+  }
+};
+
+}  // namespace bvh_backend_detail
+
+template <class ExecT>
+struct BvhBackend {
+  using Exec = ExecT;
+  using Tracer = BvhTracer;
+
+  class World {
+   public:
+    void update(const RenderContext& ctx, const FrameInfo& frame) {
+      if (!uploaded_ || ctx.accel.generation() != generation_) {
+        StageTimer timer(frame.stages, "upload");
+        store_.clear();
+        generation_ = ctx.accel.generation();
+        fw_.tracer = BvhTracer{store_bvh_view(store_, build_bvh(ctx.scene))};
+        fw_.world = PathWorld{store_scene_view(store_, ctx.accel.scene_view()), store_lights_view(store_, ctx.lights.view()),
+                              ctx.accel.ray_epsilon()};
+        fw_.animated = scene_animated(ctx.scene);
+        uploaded_ = true;
+      }
+      update_previous(ctx, frame);
+    }
+    const FrameWorld<Tracer>& view() const { return fw_; }
+
+   private:
+    // The previous frame's world and lights, and the motion between the frames (the frame's own).
+    void update_previous(const RenderContext& ctx, const FrameInfo& frame) {
+      fw_.has_previous = frame.previous_scene && frame.previous_accel;
+      fw_.has_previous_lights = frame.previous_lights != nullptr;
+      const std::vector<Mat4> back = motion_back(ctx.scene, frame.index);
+      if (!fw_.has_previous && !fw_.has_previous_lights && back.empty()) return;
+      StageTimer timer(frame.stages, "upload");
+      previous_store_.clear();
+      if (fw_.has_previous) {
+        const Lights& lights = frame.previous_lights ? *frame.previous_lights : ctx.lights;
+        fw_.previous_tracer = BvhTracer{store_bvh_view(previous_store_, build_bvh(*frame.previous_scene))};
+        fw_.previous_world = PathWorld{store_scene_view(previous_store_, frame.previous_accel->scene_view()),
+                                       store_lights_view(previous_store_, lights.view()), frame.previous_accel->ray_epsilon()};
+      }
+      if (fw_.has_previous_lights) fw_.previous_lights = store_lights_view(previous_store_, frame.previous_lights->view());
+      fw_.back = previous_store_.upload(back);
+      fw_.forward = previous_store_.upload(motion_forward(back));
+      fw_.animation_count = uint32_t(back.size());
+    }
+
+    typename Exec::Store store_, previous_store_;
+    FrameWorld<Tracer> fw_;
+    uint64_t generation_ = 0;
+    bool uploaded_ = false;
+  };
+
+  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GSurface* pixels,
+                           GMotion* motion) {
+    const FrameWorld<Tracer>& fw = w.view();
+    const PerspectiveCamera& camera = *frame.camera;
+    const bvh_backend_detail::PrimaryStage stage{fw.world,   fw.tracer.bvh,      camera, camera_sampling(ctx.options), frame.index, sample,
+                                                 fw.back,    fw.animation_count, pixels, motion};
+    Exec::for_pixels(camera.width(), camera.height(), stage, "primary hits");
+  }
+};
+
+// The host twin of the CUDA backend (render.backend = cpu-bvh).
+using HostBvhBackend = BvhBackend<HostExec>;
+
+}  // namespace rl

@@ -1,0 +1,49 @@
+// The CPU backend of the frames (ARCHITECTURE.md, "Backends"): the host execution policy (oneTBB
+// threads over 16x16-pixel tiles), Embree for the per-pixel stages' rays (EmbreeTracer, one ray at
+// a time) and, for the primary hits, Embree's coherent 16x16-ray streams (build_gbuffer). The
+// world is the host's scene itself: no copy. The reference backend: the others agree with it in
+// distribution (tests/frame/test_backends.cpp).
+//
+// A backend B gives each algorithm's frame (reservoir_chain.h and the <algo>_frame.h files):
+//   B::Exec                     the execution policy (host_exec.h documents it)
+//   B::Tracer                   the stages' ray queries (frame_world.h)
+//   B::World                    update(ctx, frame) before each frame; view(): its FrameWorld
+//   B::primary_hits(world, ctx, frame, sample, pixels, motion)   the G-buffer of one pixel sample
+#pragma once
+#include <vector>
+
+#include "backends/cpu/embree_tracer.h"
+#include "backends/cpu/host_exec.h"
+#include "frame/frame_world.h"
+#include "frame/gbuffer.h"
+
+namespace rl {
+
+struct CpuBackend {
+  using Exec = HostExec;
+  using Tracer = EmbreeTracer;
+
+  class World {
+   public:
+    // Views of ctx's scene, lights and Embree BVH, and of the previous frame's that `frame` carries.
+    void update(const RenderContext& ctx, const FrameInfo& frame);
+    const FrameWorld<Tracer>& view() const { return fw_; }
+
+   private:
+    FrameWorld<Tracer> fw_;
+    std::vector<Mat4> back_, forward_;
+    bool animated_known_ = false;
+  };
+
+  // Sample `sample`'s primary hits of every pixel into pixels[] and (unless null) motion[].
+  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GSurface* pixels,
+                           GMotion* motion) {
+    const FrameWorld<Tracer>& fw = w.view();
+    build_gbuffer(ctx, *frame.camera, frame.index, sample, fw.back, fw.animation_count, pixels, motion);
+  }
+};
+
+// Per animation: the inverse of each of motion_back's maps (the identity where one is singular).
+std::vector<Mat4> motion_forward(const std::vector<Mat4>& back);
+
+}  // namespace rl
