@@ -18,7 +18,7 @@ inline std::unique_ptr<Integrator> make_registered(const RenderContext& ctx) { r
 inline std::vector<Image> render_frames(const Scene& scene, const Options& o, MakeIntegrator make, int frames) {
   Accel accel(scene);
   Lights lights(scene, o.render.light_selection);
-  const RenderContext ctx{scene, accel, lights, o, nullptr, nullptr};
+  const RenderContext ctx{scene, accel, lights, o};
   const auto integrator = make(ctx);
   const PerspectiveCamera camera(scene.camera.keys.empty() ? CameraKey{} : scene.camera.keys.front(), o.film.width, o.film.height);
   std::vector<Image> out;

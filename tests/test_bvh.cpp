@@ -165,13 +165,14 @@ TEST_SUITE("bvh") {
       Options o = options_for(scene, {"film.width=64", "film.height=48", "render.spp=4"});
       Accel accel(scene);
       Lights lights(scene, o.render.light_selection);
-      BvhQueries bvh(scene);
       PerspectiveCamera cam(scene.camera.at_frame(0, 1), o.film.width, o.film.height);
       FrameInfo info;
       info.camera = &cam;
       Image embree(o.film.width, o.film.height), ours(o.film.width, o.film.height);
       make_integrator("pt", RenderContext{scene, accel, lights, o})->render_frame(info, embree);
-      make_integrator("pt", RenderContext{scene, accel, lights, o, nullptr, &bvh})->render_frame(info, ours);
+      Options on_bvh = o;
+      on_bvh.render.backend = Backend::cpu_bvh;  // the CUDA backend's code on the host
+      make_integrator("pt", RenderContext{scene, accel, lights, on_bvh})->render_frame(info, ours);
       // The same random streams and the same hits up to float rounding of t (the two triangle
       // tests round differently, which moves a hit point by an ulp): the same pixels to 1e-4, but
       // for the rare path whose grazing ray or random decision the last bit turns.
@@ -234,7 +235,9 @@ TEST_SUITE("bvh") {
     CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
     o.integrator = "restir-gi";
     CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
-    o.integrator = "ssr";  // not on the CUDA backend yet: said so, not run on the CPU
-    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("ssr does not run on the CUDA backend yet"), OptionError);
+    o.integrator = "ssr";  // not on the BVH backends yet: said so, not run on the CPU
+    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("ssr runs on the cpu backend only"), OptionError);
+    o.render.backend = Backend::cpu_bvh;
+    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("render.backend = cpu-bvh: ssr runs on the cpu backend only"), OptionError);
   }
 }

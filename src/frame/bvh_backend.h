@@ -44,6 +44,23 @@ struct PrimaryStage {
   }
 };
 
+// One ray of a queue traced in the BVH: its closest hit (hits) or whether anything blocks it (blocked).
+struct TraceStage {
+  BvhView bvh;
+  const Ray* rays;
+  Hit* hits;
+  uint8_t* blocked;
+  RESTIR_HD void operator()(size_t i) const {
+    if (hits) {
+      Hit h;
+      bvh_trace(bvh, rays[i], false, &h);
+      hits[i] = h;
+    } else {
+      blocked[i] = bvh_trace(bvh, rays[i], true, nullptr) ? 1 : 0;
+    }
+  }
+};
+
 }  // namespace bvh_backend_detail
 
 template <class ExecT>
@@ -102,6 +119,12 @@ struct BvhBackend {
     const bvh_backend_detail::PrimaryStage stage{fw.world,   fw.tracer.bvh,      camera, camera_sampling(ctx.options), frame.index, sample,
                                                  fw.back,    fw.animation_count, pixels, motion};
     Exec::for_pixels(camera.width(), camera.height(), stage, "primary hits");
+  }
+  static void trace_closest(const World& w, const Ray* rays, Hit* hits, size_t n, bool) {
+    Exec::for_each(n, bvh_backend_detail::TraceStage{w.view().tracer.bvh, rays, hits, nullptr}, "closest hits");
+  }
+  static void trace_any(const World& w, const Ray* rays, uint8_t* blocked, size_t n) {
+    Exec::for_each(n, bvh_backend_detail::TraceStage{w.view().tracer.bvh, rays, nullptr, blocked}, "shadow rays");
   }
 };
 

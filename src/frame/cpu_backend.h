@@ -9,7 +9,10 @@
 //   B::Tracer                   the stages' ray queries (frame_world.h)
 //   B::World                    update(ctx, frame) before each frame; view(): its FrameWorld
 //   B::primary_hits(world, ctx, frame, sample, pixels, motion)   the G-buffer of one pixel sample
+//   B::trace_closest(world, rays, hits, n, coherent)   a queue of rays: closest hits, no shading
+//   B::trace_any(world, rays, blocked, n)              a queue of rays: any hit (shadow rays)
 #pragma once
+#include <span>
 #include <vector>
 
 #include "backends/cpu/embree_tracer.h"
@@ -40,6 +43,14 @@ struct CpuBackend {
                            GMotion* motion) {
     const FrameWorld<Tracer>& fw = w.view();
     build_gbuffer(ctx, *frame.camera, frame.index, sample, fw.back, fw.animation_count, pixels, motion);
+  }
+  // Embree's stream queries over parallel chunks of the queue; `coherent` (camera rays) lets it
+  // trace them as packets.
+  static void trace_closest(const World& w, const Ray* rays, Hit* hits, size_t n, bool coherent) {
+    w.view().tracer.accel->intersect_batch(std::span<const Ray>(rays, n), std::span<Hit>(hits, n), coherent);
+  }
+  static void trace_any(const World& w, const Ray* rays, uint8_t* blocked, size_t n) {
+    w.view().tracer.accel->occluded_batch(std::span<const Ray>(rays, n), std::span<uint8_t>(blocked, n));
   }
 };
 

@@ -30,10 +30,6 @@ struct RenderContext {
   const Lights& lights;
   const Options& options;
   const PlantedBias* planted = nullptr;  // tests only: see planted_bias.h
-  // The backend's batched ray queries (render.backend): the wavefront stages issue their rays
-  // through these. Null: the CPU backend, i.e. `accel` itself.
-  const RayQueries* queries = nullptr;
-  const RayQueries& rays() const { return queries ? *queries : accel; }
 };
 
 // The context's scene and lights as the per-sample code reads them (host views, no copy). Build it

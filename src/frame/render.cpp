@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <optional>
 
-#include "backends/bvh_queries.h"
 #include "backends/cuda/cuda_queries.h"
 #include "core/parallel.h"
 #include "frame/integrator.h"
@@ -40,16 +39,11 @@ void apply_scene_hints(Options& o, const SceneHints& h) {
 
 namespace {
 
-// render.backend's batched ray queries for the integrators that run on the CPU and trace through
-// RenderContext::queries. Null: the CPU backend (the Embree Accel answers), and the CUDA backend,
-// whose integrators (pt, restir-di, restir-gi, restir-pt) hold their own device copy of the scene;
-// for it, a CUDA backend missing from the build or the machine is an option error here, before
-// anything is built.
-std::unique_ptr<RayQueries> make_queries(Backend backend, const Scene& scene) {
+// A backend missing from the build or the machine (CUDA) is an option error here, before anything
+// is built.
+void check_backend(Backend backend) {
   if (backend == Backend::cuda)
     if (const std::string why = cuda_unavailable_reason(); !why.empty()) throw OptionError("render.backend = cuda: " + why);
-  if (backend == Backend::cpu_bvh) return std::make_unique<BvhQueries>(scene);
-  return nullptr;
 }
 void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {
   const int width = 30;
@@ -92,13 +86,13 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   validate_options(o_);
   limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
   accel_ = std::make_unique<Accel>(scene_);
-  queries_ = make_queries(o_.render.backend, scene_);
+  check_backend(o_.render.backend);
   lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
 }
 
 RenderContext FrameRenderer::context() const {
-  return RenderContext{scene_, *accel_, *lights_, o_, planted_, queries_.get()};
+  return RenderContext{scene_, *accel_, *lights_, o_, planted_};
 }
 
 FrameRenderer::~FrameRenderer() = default;
@@ -106,15 +100,12 @@ FrameRenderer::~FrameRenderer() = default;
 void FrameRenderer::reset(const Options& o) {
   validate_options(o);
   find_integrator(o.integrator);  // an unknown name throws before anything is replaced
-  // The new backend is made first too: a missing CUDA device throws and leaves everything as it was.
-  std::unique_ptr<RayQueries> new_queries;
-  const bool new_backend = o.render.backend != o_.render.backend;
-  if (new_backend) new_queries = make_queries(o.render.backend, scene_);
+  // The new backend is checked first too: a missing CUDA device throws and leaves everything as it was.
+  check_backend(o.render.backend);
   integrator_.reset();            // it refers to o_ and the lights, replaced below
   const bool new_lights = o.render.light_selection != o_.render.light_selection;
   const bool new_limit = o.render.threads != o_.render.threads;
   o_ = o;
-  if (new_backend) queries_ = std::move(new_queries);
   if (new_limit) {
     limit_.reset();
     limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
@@ -153,7 +144,6 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
     animate_scene(rest_, frame_, animated_);  // (the lights, when they move, are rebuilt below)
     shown_frame_ = frame_;
     accel_->update();
-    if (queries_) queries_->update();
     if (lights_animated(rest_)) {  // static lights (only objects move) keep their tables
       Lights next(scene_, o_.render.light_selection);  // built first: a throw leaves the lights as they were
       previous_lights_ = std::make_unique<Lights>(std::move(*lights_));

@@ -43,7 +43,6 @@ Options reference_options(const Options& defaults, const Options& o);
 class Accel;
 class RayLog;
 class Lights;
-class RayQueries;
 struct RenderContext;
 class Integrator;
 class ThreadLimit;
@@ -60,8 +59,7 @@ class FrameRenderer {
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   // New options: a fresh integrator (no history; the next frame is frame 0); the lights are rebuilt
-  // only when the light selection changed, the BVH never (it depends on the scene alone), the
-  // backend's ray queries when render.backend changed.
+  // only when the light selection changed, the BVH never (it depends on the scene alone).
   void reset(const Options& o);
   // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
   // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
@@ -86,7 +84,6 @@ class FrameRenderer {
   const PlantedBias* planted_;
   Options o_;  // the integrator's RenderContext refers to it: the object never moves
   std::unique_ptr<Accel> accel_;
-  std::unique_ptr<RayQueries> queries_;  // render.backend's ray queries; null for the CPU (accel_ answers)
   std::unique_ptr<Lights> lights_;
   std::unique_ptr<Lights> previous_lights_;  // lights that move: as they were one frame earlier
   // The animated scene one frame earlier and its BVH, kept only for an integrator that asks

@@ -9,6 +9,11 @@
 //   Exec::for_pixels(w, h, f, what, progress)   f(x, y) for every pixel, all done on return
 //                                     (progress(done, total) after each tile where the policy can)
 //   Exec::for_each(n, f, what)        f(i) for i < n, all done on return
+//   Exec::for_chunks(n, chunk, f, what)   f(a, b) over [0, n) in ranges of at most `chunk` (the
+//                                     device: ranges of one), all done on return
+//   Exec::select(n, keep, out, what)  writes the i < n with keep(i) to out[], returns how many: in
+//                                     order here, in any order on a device (consumers read by owner)
+//   Exec::kWaveItems                  how many work items a wavefront keeps in flight (its buffers)
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -70,6 +75,21 @@ struct HostExec {
   template <class F>
   static void for_pixels(int width, int height, const F& f, const char*, const std::function<void(int, int)>& progress = {}) {
     parallel_for_pixels(width, height, [&](int x, int y) { f(x, y); }, progress);
+  }
+  // 2^16 paths: their state stays in the caches.
+  static constexpr size_t kWaveItems = size_t(1) << 16;
+
+  template <class F>
+  static void for_chunks(size_t n, size_t chunk, const F& f, const char*) {
+    parallel_for_chunks(n, chunk, [&](size_t a, size_t b) { f(a, b); });
+  }
+  template <class Keep>
+  static uint32_t select(size_t n, const Keep& keep, Array<uint32_t>& out, const char*) {
+    out.reserve(n);
+    uint32_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+      if (keep(i)) out.data[count++] = uint32_t(i);
+    return count;
   }
   template <class F>
   static void for_each(size_t n, const F& f, const char*) {

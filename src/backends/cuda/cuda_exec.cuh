@@ -23,6 +23,19 @@ __global__ void items_kernel(size_t n, F f) {
   if (i < n) f(i);
 }
 
+template <class F>
+__global__ void ranges_kernel(size_t n, F f) {
+  const size_t i = size_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < n) f(i, i + 1);
+}
+
+// Appends each i < n with keep(i) to out through one counter: the order depends on the schedule.
+template <class Keep>
+__global__ void select_kernel(size_t n, Keep keep, uint32_t* out, uint32_t* count) {
+  const size_t i = size_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < n && keep(i)) out[atomicAdd(count, 1u)] = uint32_t(i);
+}
+
 struct CudaExec {
   using Store = DeviceStore;
   template <class T>
@@ -54,6 +67,27 @@ struct CudaExec {
     const dim3 blocks((unsigned(width) + kPixelBlockX - 1) / kPixelBlockX, (unsigned(height) + kPixelBlockY - 1) / kPixelBlockY);
     pixels_kernel<<<blocks, threads>>>(width, height, f);
     finish(what);
+  }
+  // 2^22 paths: a 1920x1080 frame at 1 spp in one wave, so that each bounce is one launch of each
+  // stage (0.7 GB of path state, hits, shadow rays and lists).
+  static constexpr size_t kWaveItems = size_t(1) << 22;
+
+  template <class F>
+  static void for_chunks(size_t n, size_t, const F& f, const char* what) {
+    if (n == 0) return;
+    ranges_kernel<<<unsigned((n + kItemBlock - 1) / kItemBlock), kItemBlock>>>(n, f);
+    finish(what);
+  }
+  template <class Keep>
+  static uint32_t select(size_t n, const Keep& keep, Array<uint32_t>& out, const char* what) {
+    out.reserve(n + 1);  // the last entry holds the counter
+    uint32_t* count = out.data + n;
+    check(cudaMemset(count, 0, sizeof(uint32_t)), what);
+    if (n) select_kernel<<<unsigned((n + kItemBlock - 1) / kItemBlock), kItemBlock>>>(n, keep, out.data, count);
+    finish(what);
+    uint32_t m = 0;
+    check(cudaMemcpy(&m, count, sizeof(uint32_t), cudaMemcpyDeviceToHost), what);
+    return m;
   }
   template <class F>
   static void for_each(size_t n, const F& f, const char* what) {
