@@ -290,20 +290,27 @@ int run_compare(const std::string& a, const std::string& b, bool json) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"restir-lab: a research renderer and parameter-study lab for ReSTIR (CPU, and NVIDIA GPUs with CUDA)"};
-  app.require_subcommand(1);
-  // The build id, then whether render.backend=cuda can run here (and why not).
-  app.set_version_flag("--version", [] {
-    const std::string why = rl::cuda_unavailable_reason();
-    return std::string(rl::build_id()) + "\ncuda backend: " +
-           (why.empty() ? "ready (" + rl::cuda_device_description() + ")" : "unavailable: " + why);
-  });
-
+// Every subcommand, and where CLI11 stores its arguments (it binds them by reference: a Commands
+// must stay where it is from the first add_* to the last run).
+struct Commands {
   RenderArgs ra;
-  auto* render = app.add_subcommand("render", "render a scene to EXR/PNG");
+  std::string info_scene;
+  std::string cmp_a, cmp_b;
+  bool cmp_json = false;
+  ExportArgs ea;
+  viewer::ViewArgs va;
+  study::StudyArgs sa;
+  bool study_list = false;
+  std::string shard_text;
+  bool slurm = false;
+  study::SlurmArgs sl;
+  CLI::App *render = nullptr, *info = nullptr, *compare = nullptr, *export_mi = nullptr, *view = nullptr,
+           *options = nullptr, *study_cmd = nullptr;
+};
+
+void add_render_command(CLI::App& app, Commands& c) {
+  RenderArgs& ra = c.ra;
+  auto* render = c.render = app.add_subcommand("render", "render a scene to EXR/PNG");
   render->add_option("scene", ra.scene, "scene file (.pbrt, .obj, .gltf, .glb, .ply)")->required();
   render->add_option("-o,--output", ra.out, "HDR output of the last frame (.exr)");
   render->add_option("--png", ra.png, "tone-mapped PNG of the last frame");
@@ -321,28 +328,31 @@ int main(int argc, char** argv) {
   render->add_option("--config", ra.config, "JSON file of options (applied before --set)");
   render->add_flag("-q,--quiet", ra.quiet, "no progress or summary on stderr");
   render->footer("Option precedence: defaults < scene file < --config < flags < --set. `restir options` lists every key.");
+}
 
-  std::string info_scene;
-  auto* info = app.add_subcommand("info", "print scene statistics");
-  info->add_option("scene", info_scene, "scene file")->required();
+void add_info_and_compare_commands(CLI::App& app, Commands& c) {
+  c.info = app.add_subcommand("info", "print scene statistics");
+  c.info->add_option("scene", c.info_scene, "scene file")->required();
 
-  std::string cmp_a, cmp_b;
-  bool cmp_json = false;
-  auto* compare = app.add_subcommand("compare", "error metrics of TEST against REFERENCE (MSE, relMSE, MAE)");
-  compare->add_option("test", cmp_a, "test image")->required();
-  compare->add_option("reference", cmp_b, "reference image")->required();
-  compare->add_flag("--json", cmp_json, "print JSON");
+  auto* compare = c.compare = app.add_subcommand("compare", "error metrics of TEST against REFERENCE (MSE, relMSE, MAE)");
+  compare->add_option("test", c.cmp_a, "test image")->required();
+  compare->add_option("reference", c.cmp_b, "reference image")->required();
+  compare->add_flag("--json", c.cmp_json, "print JSON");
+}
 
-  ExportArgs ea;
-  auto* export_mi = app.add_subcommand("export-mitsuba", "write the parsed scene as a Mitsuba 3 scene (DIR/scene.xml + PLY/EXR)");
+void add_export_command(CLI::App& app, Commands& c) {
+  ExportArgs& ea = c.ea;
+  auto* export_mi = c.export_mi = app.add_subcommand("export-mitsuba", "write the parsed scene as a Mitsuba 3 scene (DIR/scene.xml + PLY/EXR)");
   export_mi->add_option("scene", ea.scene, "scene file")->required();
   export_mi->add_option("--out", ea.out, "output folder")->required();
   export_mi->add_option("--set", ea.sets, "set an option as for render: key=value (film.width, path.max_depth, ...)");
   export_mi->add_option("--config", ea.config, "JSON file of options (applied before --set)");
   export_mi->footer("Mitsuba's max_depth is path.max_depth + 1 (it counts the camera segment). See src/scene/mitsuba_export.h.");
+}
 
-  viewer::ViewArgs va;
-  auto* view = app.add_subcommand("view", "interactive viewer: the frame re-rendered live, every option editable");
+void add_view_command(CLI::App& app, Commands& c) {
+  viewer::ViewArgs& va = c.va;
+  auto* view = c.view = app.add_subcommand("view", "interactive viewer: the frame re-rendered live, every option editable");
   view->add_option("scene", va.scene, "scene file (.pbrt, .obj, .gltf, .glb, .ply)")->required();
   view->add_option("--integrator", va.integrator, "integrator name (= --set integrator=NAME)");
   view->add_option("--spp", va.spp, "samples per pixel per frame (default 1: the viewer accumulates frames)")->check(integer_in(1, INT_MAX));
@@ -359,24 +369,21 @@ int main(int argc, char** argv) {
   view->add_option("--bench", va.bench, "render N frames bare and N through the viewer loop; print ms/frame and the ratio")->check(integer_in(1, 100000));
   view->footer("Controls: left drag turns (orbit / fly), right drag pans, wheel dollies, WASD + Q/E move, R resets the camera,\n"
                "Space pauses. Option precedence: defaults < scene file < render.spp=1 < --config < flags < --set.");
+}
 
-  auto* options = app.add_subcommand("options", "list every option key with its type, default and meaning");
-
-  study::StudyArgs sa;
-  bool study_list = false;
-  auto* study_cmd = app.add_subcommand("study", "run a parameter study: sweep, metrics, CSV, plots, report.html");
+void add_study_command(CLI::App& app, Commands& c) {
+  study::StudyArgs& sa = c.sa;
+  study::SlurmArgs& sl = c.sl;
+  auto* study_cmd = c.study_cmd = app.add_subcommand("study", "run a parameter study: sweep, metrics, CSV, plots, report.html");
   study_cmd->add_option("study", sa.study, "built-in study name (see --list) or path to a study JSON file");
   study_cmd->add_option("--out", sa.out, "output folder (results, references, images, plots, report.html)");
   study_cmd->add_flag("--quick", sa.quick, "apply the study's \"quick\" block (tiny resolution, few seeds and frames)");
   study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(integer_in(1, INT_MAX));
-  study_cmd->add_flag("--list", study_list, "list the built-in studies");
+  study_cmd->add_flag("--list", c.study_list, "list the built-in studies");
   study_cmd->add_flag("-q,--quiet", sa.quiet, "no progress or summary on stderr");
-  std::string shard_text;
-  bool slurm = false;
-  study::SlurmArgs sl;
-  study_cmd->add_option("--shard", shard_text, "I/N: run only shard I of N (0-based) of the jobs, rows into OUT/shards/I-of-N");
+  study_cmd->add_option("--shard", c.shard_text, "I/N: run only shard I of N (0-based) of the jobs, rows into OUT/shards/I-of-N");
   study_cmd->add_flag("--merge", sa.merge, "run nothing: gather OUT and every OUT/shards/* into results, plots and report; exit 1 if jobs are missing");
-  study_cmd->add_flag("--slurm", slurm, "submit the study as a Slurm job array of --shards tasks plus a dependent merge job");
+  study_cmd->add_flag("--slurm", c.slurm, "submit the study as a Slurm job array of --shards tasks plus a dependent merge job");
   study_cmd->add_option("--shards", sl.shards, "--slurm: array tasks (default 4)")->check(integer_in(1, 100000));
   study_cmd->add_option("--partition", sl.partition, "--slurm: sbatch --partition");
   study_cmd->add_option("--time", sl.time, "--slurm: sbatch --time limit per task (e.g. 2:00:00)");
@@ -384,6 +391,84 @@ int main(int argc, char** argv) {
   study_cmd->add_flag("--dry-run", sl.dry_run, "--slurm: print the job scripts and sbatch commands; submit nothing");
   study_cmd->footer("Resumable: rows already in OUT/results.json (or OUT/shards/*) are not recomputed. Format: studies/README.md.\n"
                     "Cluster: --slurm submits, --shard/--merge are what its tasks run; see README \"Running on a cluster\".");
+}
+
+// Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
+int usage_error(const CLI::ParseError& e, int argc, char** argv) {
+  std::string msg = e.what();
+  const char* commands = "render, view, info, compare, study, options";
+  if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
+  else if (argv[1][0] != '-' &&
+           std::string(" render view info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+    msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
+  std::replace(msg.begin(), msg.end(), '\n', ' ');
+  std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
+  return 2;
+}
+
+int run_study_command(Commands& c) {
+  study::StudyArgs& sa = c.sa;
+  const study::SlurmArgs& sl = c.sl;
+  const CLI::App* study_cmd = c.study_cmd;
+  if (c.study_list) {
+    for (const auto& [name, description] : study::list_studies()) fmt::print("{:<18} {}\n", name, description);
+    return 0;
+  }
+  if (sa.study.empty()) throw UsageError("study: give a study name or file (or --list)");
+  if (sa.out.empty()) throw UsageError("study: --out DIR is required");
+  if (!c.shard_text.empty()) sa.shard = study::parse_shard(c.shard_text);
+  const bool slurm_only = sl.dry_run || study_cmd->count("--shards") || study_cmd->count("--partition") ||
+                          study_cmd->count("--time") || study_cmd->count("--cpus");
+  if (c.slurm && (sa.merge || sa.shard.active())) throw UsageError("study: --slurm submits shards and merge itself; drop --shard/--merge");
+  if (!c.slurm && slurm_only) throw UsageError("study: --shards, --partition, --time, --cpus and --dry-run belong to --slurm");
+  if (c.slurm) return study::submit_study_slurm(sa, sl);
+  return study::run_study(sa);
+}
+
+int run_options() {
+  std::string integrators;
+  for (const auto& i : integrator_registry()) integrators += fmt::format("  {:<12} {}\n", i.name, i.description);
+  fmt::print("Integrators:\n{}\n{}", integrators, options_help());
+  return 0;
+}
+
+// Runs the command that was parsed; throws on errors (UsageError for how it was called).
+int run_command(Commands& c) {
+  if (*c.render) return run_render(c.ra);
+  if (*c.info) return run_info(c.info_scene);
+  if (*c.export_mi) return run_export_mitsuba(c.ea);
+  if (*c.compare) return run_compare(c.cmp_a, c.cmp_b, c.cmp_json);
+  if (*c.view) {
+#ifdef RESTIR_HAVE_VIEWER
+    return viewer::run_view(c.va);
+#else
+    throw std::runtime_error("view: this build has no viewer (configure with -DRESTIR_VIEWER=ON; it needs the Debian "
+                             "packages libglfw3-dev, libimgui-dev and libgl-dev)");
+#endif
+  }
+  if (*c.study_cmd) return run_study_command(c);
+  if (*c.options) return run_options();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"restir-lab: a research renderer and parameter-study lab for ReSTIR (CPU, and NVIDIA GPUs with CUDA)"};
+  app.require_subcommand(1);
+  // The build id, then whether render.backend=cuda can run here (and why not).
+  app.set_version_flag("--version", [] {
+    const std::string why = rl::cuda_unavailable_reason();
+    return std::string(rl::build_id()) + "\ncuda backend: " +
+           (why.empty() ? "ready (" + rl::cuda_device_description() + ")" : "unavailable: " + why);
+  });
+  Commands c;
+  add_render_command(app, c);
+  add_info_and_compare_commands(app, c);
+  add_export_command(app, c);
+  add_view_command(app, c);
+  c.options = app.add_subcommand("options", "list every option key with its type, default and meaning");
+  add_study_command(app, c);
 
   try {
     app.parse(argc, argv);
@@ -394,51 +479,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
-    std::string msg = e.what();
-    const char* commands = "render, view, info, compare, study, options";
-    if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
-    else if (argv[1][0] != '-' &&
-             std::string(" render view info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
-      msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
-    return 2;
+    return usage_error(e, argc, argv);
   }
   try {
-    if (*render) return run_render(ra);
-    if (*info) return run_info(info_scene);
-    if (*export_mi) return run_export_mitsuba(ea);
-    if (*compare) return run_compare(cmp_a, cmp_b, cmp_json);
-    if (*view) {
-#ifdef RESTIR_HAVE_VIEWER
-      return viewer::run_view(va);
-#else
-      throw std::runtime_error("view: this build has no viewer (configure with -DRESTIR_VIEWER=ON; it needs the Debian "
-                               "packages libglfw3-dev, libimgui-dev and libgl-dev)");
-#endif
-    }
-    if (*study_cmd) {
-      if (study_list) {
-        for (const auto& [name, description] : study::list_studies()) fmt::print("{:<18} {}\n", name, description);
-        return 0;
-      }
-      if (sa.study.empty()) throw UsageError("study: give a study name or file (or --list)");
-      if (sa.out.empty()) throw UsageError("study: --out DIR is required");
-      if (!shard_text.empty()) sa.shard = study::parse_shard(shard_text);
-      const bool slurm_only = sl.dry_run || study_cmd->count("--shards") || study_cmd->count("--partition") ||
-                              study_cmd->count("--time") || study_cmd->count("--cpus");
-      if (slurm && (sa.merge || sa.shard.active())) throw UsageError("study: --slurm submits shards and merge itself; drop --shard/--merge");
-      if (!slurm && slurm_only) throw UsageError("study: --shards, --partition, --time, --cpus and --dry-run belong to --slurm");
-      if (slurm) return study::submit_study_slurm(sa, sl);
-      return study::run_study(sa);
-    }
-    if (*options) {
-      std::string integrators;
-      for (const auto& i : integrator_registry()) integrators += fmt::format("  {:<12} {}\n", i.name, i.description);
-      fmt::print("Integrators:\n{}\n{}", integrators, options_help());
-      return 0;
-    }
+    return run_command(c);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "error: %s; see `restir --help`\n", one_line(e.what()).c_str());
     return 2;
@@ -446,5 +490,4 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s\n", one_line(e.what()).c_str());
     return 1;
   }
-  return 0;
 }

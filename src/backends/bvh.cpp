@@ -88,13 +88,16 @@ struct Flattener {
   }
 };
 
-}  // namespace
-
-Bvh build_bvh(const Scene& scene) {
-  Bvh bvh;
-  bvh.sphere_geom = uint32_t(scene.meshes.size());
+// The build's input: every triangle and sphere, and its bounds for Embree (primID: its index).
+struct Primitives {
   std::vector<BvhPrimitive> prims;
   std::vector<RTCBuildPrimitive> refs;
+};
+
+Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
+  Primitives r;
+  std::vector<BvhPrimitive>& prims = r.prims;
+  std::vector<RTCBuildPrimitive>& refs = r.refs;
   prims.reserve(scene.triangle_count() + scene.spheres.size());
   refs.reserve(prims.capacity());
   for (uint32_t mi = 0; mi < scene.meshes.size(); ++mi) {
@@ -111,15 +114,14 @@ Bvh build_bvh(const Scene& scene) {
     const Sphere& s = scene.spheres[si];
     BvhPrimitive p;
     p.a = s.center, p.b = Vec3(s.radius, 0, 0);
-    p.geom = bvh.sphere_geom, p.prim = si;
+    p.geom = sphere_geom, p.prim = si;
     refs.push_back(bounds_of(s.center - Vec3(s.radius), s.center + Vec3(s.radius), unsigned(prims.size())));
     prims.push_back(p);
   }
-  if (prims.empty()) return bvh;
+  return r;
+}
 
-  RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
-  if (!device) throw std::runtime_error("cannot create the Embree device for the BVH build");
-  RTCBVH handle = rtcNewBVH(device);
+RTCBuildArguments build_arguments(RTCBVH handle, std::vector<RTCBuildPrimitive>& refs) {
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.byteSize = sizeof(args);
   args.buildQuality = RTC_BUILD_QUALITY_HIGH;
@@ -140,29 +142,49 @@ Bvh build_bvh(const Scene& scene) {
   args.setNodeChildren = set_children;
   args.setNodeBounds = set_bounds;
   args.createLeaf = create_leaf;
+  return args;
+}
+
+// The builder's tree (root r) into bvh's flat nodes and primitives.
+void flatten(const BuildNode* r, const std::vector<BvhPrimitive>& prims, Bvh& bvh) {
+  bvh.nodes.reserve(prims.size());  // a binary tree over n leaves of >= 1 primitive has < n inner nodes
+  bvh.primitives.reserve(prims.size());
+  bvh.nodes.emplace_back();
+  Flattener f{prims, bvh};
+  if (r->leaf) {  // a whole scene in one leaf: a root with one leaf child
+    bvh.nodes[0].child[1] = kBvhNone, bvh.nodes[0].count[1] = 0;
+    Bounds3 b;
+    for (const BvhPrimitive& p : prims) {
+      if (p.geom == bvh.sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
+      else b.extend(p.a), b.extend(p.b), b.extend(p.c);
+    }
+    bvh.nodes[0].lo[0] = b.lo, bvh.nodes[0].hi[0] = b.hi;
+    bvh.nodes[0].child[0] = f.leaf(r), bvh.nodes[0].count[0] = r->count;
+    bvh.depth = 2;
+  } else {
+    f.inner(r, 0, 1);
+  }
+}
+
+}  // namespace
+
+Bvh build_bvh(const Scene& scene) {
+  Bvh bvh;
+  bvh.sphere_geom = uint32_t(scene.meshes.size());
+  Primitives in = gather_primitives(scene, bvh.sphere_geom);
+  const std::vector<BvhPrimitive>& prims = in.prims;
+  if (prims.empty()) return bvh;
+
+  RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
+  if (!device) throw std::runtime_error("cannot create the Embree device for the BVH build");
+  RTCBVH handle = rtcNewBVH(device);
+  RTCBuildArguments args = build_arguments(handle, in.refs);
   void* root = rtcBuildBVH(&args);
   const RTCError err = rtcGetDeviceError(device);
   try {
     if (!root || err != RTC_ERROR_NONE)
       throw std::runtime_error("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
-    const auto* r = static_cast<const BuildNode*>(root);
-    bvh.nodes.reserve(prims.size());  // a binary tree over n leaves of >= 1 primitive has < n inner nodes
-    bvh.primitives.reserve(prims.size());
-    bvh.nodes.emplace_back();
-    Flattener f{prims, bvh};
-    if (r->leaf) {  // a whole scene in one leaf: a root with one leaf child
-      bvh.nodes[0].child[1] = kBvhNone, bvh.nodes[0].count[1] = 0;
-      Bounds3 b;
-      for (const BvhPrimitive& p : prims) {
-        if (p.geom == bvh.sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
-        else b.extend(p.a), b.extend(p.b), b.extend(p.c);
-      }
-      bvh.nodes[0].lo[0] = b.lo, bvh.nodes[0].hi[0] = b.hi;
-      bvh.nodes[0].child[0] = f.leaf(r), bvh.nodes[0].count[0] = r->count;
-      bvh.depth = 2;
-    } else {
-      f.inner(r, 0, 1);
-    }
+    flatten(static_cast<const BuildNode*>(root), prims, bvh);
   } catch (...) {
     rtcReleaseBVH(handle);
     rtcReleaseDevice(device);

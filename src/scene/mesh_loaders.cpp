@@ -38,6 +38,144 @@ std::string one_line(std::string s) {
 
 float srgb_to_linear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
+// map_Kd as an image texture of the scene (read relative to the OBJ's folder); returns its index.
+int obj_diffuse_texture(const std::string& texname, const std::string& dir, const std::string& path, Scene& scene) {
+  Texture t;
+  t.kind = Texture::Kind::image;
+  t.name = texname;
+  fs::path tp(texname);
+  std::string full = tp.is_absolute() ? tp.string() : (fs::path(dir) / tp).string();
+  scene.input_files.push_back(full);
+  t.image = read_image_for(full, path, 0);
+  scene.textures.push_back(std::move(t));
+  return int(scene.textures.size()) - 1;
+}
+
+// An MTL material by the mapping at the top of this file (emission aside).
+Material obj_material(const tinyobj::material_t& mt, const std::string& dir, const std::string& path, Scene& scene) {
+  Material m;
+  m.name = mt.name;
+  Rgb kd(mt.diffuse[0], mt.diffuse[1], mt.diffuse[2]), ks(mt.specular[0], mt.specular[1], mt.specular[2]);
+  if (mt.dissolve < 1 || mt.illum == 4 || mt.illum == 6 || mt.illum == 7) {
+    m.type = Material::Type::dielectric;
+    m.ior = mt.ior > 1 ? mt.ior : 1.5f;
+  } else if (max_component(ks) > 0 && mt.shininess >= 20 && luminance(ks) >= luminance(kd)) {
+    m.type = Material::Type::conductor;
+    m.use_reflectance = true;
+    m.reflectance = ks;
+    m.alpha_x = m.alpha_y = std::sqrt(2.0f / (mt.shininess + 2.0f));
+  } else {
+    m.type = Material::Type::diffuse;
+    m.reflectance = kd;
+    if (!mt.diffuse_texname.empty()) m.reflectance_texture = obj_diffuse_texture(mt.diffuse_texname, dir, path, scene);
+  }
+  return m;
+}
+
+// The scene materials of an OBJ's MTL materials: per MTL material its scene material index and
+// its emission (opt.material and none where the file's materials are not used).
+struct ObjMaterials {
+  std::vector<int> index;
+  std::vector<std::optional<AreaEmission>> emission;
+};
+
+ObjMaterials import_obj_materials(const std::vector<tinyobj::material_t>& mats, const std::string& dir,
+                                  const std::string& path, const MeshImport& opt, Scene& scene) {
+  ObjMaterials r{std::vector<int>(mats.size(), opt.material), std::vector<std::optional<AreaEmission>>(mats.size())};
+  if (!opt.use_file_materials) return r;
+  for (size_t i = 0; i < mats.size(); ++i) {
+    const tinyobj::material_t& mt = mats[i];
+    Material m = obj_material(mt, dir, path, scene);
+    Rgb ke(mt.emission[0], mt.emission[1], mt.emission[2]);
+    if (max_component(ke) > 0) r.emission[i] = AreaEmission{ke, false};
+    scene.materials.push_back(m);
+    r.index[i] = int(scene.materials.size()) - 1;
+  }
+  return r;
+}
+
+// The triangles of one OBJ shape that use one material, with their own vertex list.
+struct ObjGroup {
+  std::vector<Vec3> p, n;
+  std::vector<Vec2> uv;
+  std::vector<uint32_t> idx;
+  std::map<std::tuple<int, int, int>, uint32_t> remap;
+  bool all_n = true, all_uv = true;
+};
+
+// Adds one triangle corner to g: a vertex already in g for the same (position, normal, uv)
+// indices, or a new one.
+void add_obj_corner(ObjGroup& g, const tinyobj::index_t& ix, const tinyobj::attrib_t& at, const std::string& path,
+                    const std::string& shape) {
+  auto key = std::make_tuple(ix.vertex_index, ix.normal_index, ix.texcoord_index);
+  auto it = g.remap.find(key);
+  if (it != g.remap.end()) {
+    g.idx.push_back(it->second);
+    return;
+  }
+  if (ix.vertex_index < 0 || (size_t(ix.vertex_index) * 3 + 2) >= at.vertices.size())
+    throw SceneError(path, 0, "shape '" + shape + "': vertex index out of range");
+  uint32_t id = uint32_t(g.p.size());
+  g.remap[key] = id;
+  g.idx.push_back(id);
+  const float* v = &at.vertices[(size_t(ix.vertex_index) * 3)];
+  g.p.emplace_back(v[0], v[1], v[2]);
+  if (ix.normal_index >= 0 && (size_t(ix.normal_index) * 3 + 2) < at.normals.size()) {
+    const float* n = &at.normals[(size_t(ix.normal_index) * 3)];
+    g.n.emplace_back(n[0], n[1], n[2]);
+  } else {
+    g.all_n = false;
+    g.n.emplace_back(0, 0, 0);
+  }
+  if (ix.texcoord_index >= 0 && (size_t(ix.texcoord_index) * 2 + 1) < at.texcoords.size()) {
+    const float* t = &at.texcoords[(size_t(ix.texcoord_index) * 2)];
+    g.uv.emplace_back(t[0], t[1]);
+  } else {
+    g.all_uv = false;
+    g.uv.emplace_back(0, 0);
+  }
+}
+
+// The shape's triangles grouped by material id (-1: none or out of range).
+std::map<int, ObjGroup> group_obj_shape(const tinyobj::shape_t& sh, const tinyobj::attrib_t& at, size_t num_mats,
+                                        const std::string& path) {
+  std::map<int, ObjGroup> groups;
+  size_t off = 0;
+  const auto& fv = sh.mesh.num_face_vertices;
+  for (size_t f = 0; f < fv.size(); ++f) {
+    size_t nv = fv[f];
+    int mid = f < sh.mesh.material_ids.size() ? sh.mesh.material_ids[f] : -1;
+    if (mid >= int(num_mats)) mid = -1;
+    ObjGroup& g = groups[mid];
+    if (nv == 3)
+      for (size_t k = 0; k < 3; ++k) add_obj_corner(g, sh.mesh.indices[off + k], at, path, sh.name);
+    off += nv;
+  }
+  return groups;
+}
+
+// One world-space mesh per non-empty group of the shape.
+void add_obj_meshes(std::map<int, ObjGroup>& groups, const tinyobj::shape_t& sh, const ObjMaterials& mats,
+                    const std::string& path, const MeshImport& opt, std::vector<TriangleMesh>& out) {
+  for (auto& [mid, g] : groups) {
+    if (g.idx.empty()) continue;
+    if (!g.all_n) g.n.clear();
+    if (!g.all_uv) g.uv.clear();
+    TriangleMesh m;
+    try {
+      m = make_world_mesh(g.p, g.n, g.uv, g.idx, opt.world_from_object, opt.reverse_orientation);
+    } catch (const SceneError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw SceneError(path, 0, "shape '" + sh.name + "': " + e.what());
+    }
+    m.material = mid >= 0 ? mats.index[size_t(mid)] : opt.material;
+    m.emission = opt.use_file_materials ? (mid >= 0 ? mats.emission[size_t(mid)] : std::nullopt) : opt.emission;
+    m.source = path + ":" + sh.name;
+    out.push_back(std::move(m));
+  }
+}
+
 }  // namespace
 
 void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, std::vector<TriangleMesh>& out) {
@@ -51,112 +189,10 @@ void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, st
   if (!reader.Warning().empty()) std::fprintf(stderr, "%s: warning: %s\n", path.c_str(), one_line(reader.Warning()).c_str());
   const tinyobj::attrib_t& at = reader.GetAttrib();
   const auto& mats = reader.GetMaterials();
-
-  std::vector<int> mat_index(mats.size(), opt.material);
-  std::vector<std::optional<AreaEmission>> mat_emit(mats.size());
-  if (opt.use_file_materials) {
-    for (size_t i = 0; i < mats.size(); ++i) {
-      const tinyobj::material_t& mt = mats[i];
-      Material m;
-      m.name = mt.name;
-      Rgb kd(mt.diffuse[0], mt.diffuse[1], mt.diffuse[2]), ks(mt.specular[0], mt.specular[1], mt.specular[2]);
-      if (mt.dissolve < 1 || mt.illum == 4 || mt.illum == 6 || mt.illum == 7) {
-        m.type = Material::Type::dielectric;
-        m.ior = mt.ior > 1 ? mt.ior : 1.5f;
-      } else if (max_component(ks) > 0 && mt.shininess >= 20 && luminance(ks) >= luminance(kd)) {
-        m.type = Material::Type::conductor;
-        m.use_reflectance = true;
-        m.reflectance = ks;
-        m.alpha_x = m.alpha_y = std::sqrt(2.0f / (mt.shininess + 2.0f));
-      } else {
-        m.type = Material::Type::diffuse;
-        m.reflectance = kd;
-        if (!mt.diffuse_texname.empty()) {
-          Texture t;
-          t.kind = Texture::Kind::image;
-          t.name = mt.diffuse_texname;
-          fs::path tp(mt.diffuse_texname);
-          std::string full = tp.is_absolute() ? tp.string() : (fs::path(dir) / tp).string();
-          scene.input_files.push_back(full);
-          t.image = read_image_for(full, path, 0);
-          scene.textures.push_back(std::move(t));
-          m.reflectance_texture = int(scene.textures.size()) - 1;
-        }
-      }
-      Rgb ke(mt.emission[0], mt.emission[1], mt.emission[2]);
-      if (max_component(ke) > 0) mat_emit[i] = AreaEmission{ke, false};
-      scene.materials.push_back(m);
-      mat_index[i] = int(scene.materials.size()) - 1;
-    }
-  }
-
+  const ObjMaterials materials = import_obj_materials(mats, dir, path, opt, scene);
   for (const tinyobj::shape_t& sh : reader.GetShapes()) {
-    struct Group {
-      std::vector<Vec3> p, n;
-      std::vector<Vec2> uv;
-      std::vector<uint32_t> idx;
-      std::map<std::tuple<int, int, int>, uint32_t> remap;
-      bool all_n = true, all_uv = true;
-    };
-    std::map<int, Group> groups;
-    size_t off = 0;
-    const auto& fv = sh.mesh.num_face_vertices;
-    for (size_t f = 0; f < fv.size(); ++f) {
-      size_t nv = fv[f];
-      int mid = f < sh.mesh.material_ids.size() ? sh.mesh.material_ids[f] : -1;
-      if (mid >= int(mats.size())) mid = -1;
-      Group& g = groups[mid];
-      if (nv == 3) {
-        for (size_t k = 0; k < 3; ++k) {
-          const tinyobj::index_t& ix = sh.mesh.indices[off + k];
-          auto key = std::make_tuple(ix.vertex_index, ix.normal_index, ix.texcoord_index);
-          auto it = g.remap.find(key);
-          if (it != g.remap.end()) {
-            g.idx.push_back(it->second);
-            continue;
-          }
-          if (ix.vertex_index < 0 || (size_t(ix.vertex_index) * 3 + 2) >= at.vertices.size())
-            throw SceneError(path, 0, "shape '" + sh.name + "': vertex index out of range");
-          uint32_t id = uint32_t(g.p.size());
-          g.remap[key] = id;
-          g.idx.push_back(id);
-          const float* v = &at.vertices[(size_t(ix.vertex_index) * 3)];
-          g.p.emplace_back(v[0], v[1], v[2]);
-          if (ix.normal_index >= 0 && (size_t(ix.normal_index) * 3 + 2) < at.normals.size()) {
-            const float* n = &at.normals[(size_t(ix.normal_index) * 3)];
-            g.n.emplace_back(n[0], n[1], n[2]);
-          } else {
-            g.all_n = false;
-            g.n.emplace_back(0, 0, 0);
-          }
-          if (ix.texcoord_index >= 0 && (size_t(ix.texcoord_index) * 2 + 1) < at.texcoords.size()) {
-            const float* t = &at.texcoords[(size_t(ix.texcoord_index) * 2)];
-            g.uv.emplace_back(t[0], t[1]);
-          } else {
-            g.all_uv = false;
-            g.uv.emplace_back(0, 0);
-          }
-        }
-      }
-      off += nv;
-    }
-    for (auto& [mid, g] : groups) {
-      if (g.idx.empty()) continue;
-      if (!g.all_n) g.n.clear();
-      if (!g.all_uv) g.uv.clear();
-      TriangleMesh m;
-      try {
-        m = make_world_mesh(g.p, g.n, g.uv, g.idx, opt.world_from_object, opt.reverse_orientation);
-      } catch (const SceneError&) {
-        throw;
-      } catch (const std::exception& e) {
-        throw SceneError(path, 0, "shape '" + sh.name + "': " + e.what());
-      }
-      m.material = mid >= 0 ? mat_index[size_t(mid)] : opt.material;
-      m.emission = opt.use_file_materials ? (mid >= 0 ? mat_emit[size_t(mid)] : std::nullopt) : opt.emission;
-      m.source = path + ":" + sh.name;
-      out.push_back(std::move(m));
-    }
+    std::map<int, ObjGroup> groups = group_obj_shape(sh, at, mats.size(), path);
+    add_obj_meshes(groups, sh, materials, path, opt, out);
   }
 }
 

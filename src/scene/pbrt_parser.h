@@ -84,6 +84,13 @@ class Parser {
   // pbrt_shapes.cpp
   void light(const Token& d, const std::string& type, const ParamList& pl);
   void shape(const Token& d, const std::string& type, const ParamList& pl);
+  // shape()'s kinds, each under the start transform xf (shape() fills in what they share)
+  void add_shape(const Token& d, const std::string& type, const ParamList& pl, std::vector<TriangleMesh>& out);
+  TriangleMesh triangle_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf);
+  TriangleMesh ply_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf);
+  Sphere sphere_shape(const Token& d, const ParamList& pl, const Mat4& xf);
+  void mesh_file_shape(const Token& d, const std::string& type, const ParamList& pl, const Mat4& xf,
+                       std::vector<TriangleMesh>& out);
   void instantiate(const Token& d, const Instance& inst);
   void attribute(const Token& d, const std::string& target, const ParamList& pl);
 

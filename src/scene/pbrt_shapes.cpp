@@ -67,84 +67,106 @@ void Parser::light(const Token& d, const std::string& type, const ParamList& pl)
   }
 }
 
+TriangleMesh Parser::triangle_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf) {
+  std::vector<Vec3> P = pl.get_point3s("P");
+  if (P.empty()) d.fail("trianglemesh: missing \"point3 P\"");
+  std::vector<int> idx = pl.get_ints("indices");
+  if (idx.empty()) {
+    if (P.size() != 3) d.fail("trianglemesh: \"integer indices\" required unless there are exactly 3 vertices");
+    idx = {0, 1, 2};
+  }
+  std::vector<uint32_t> ui;
+  for (int i : idx) {
+    if (i < 0 || size_t(i) >= P.size())
+      pl.find("indices")->fail("vertex index " + std::to_string(i) + " is out of range [0, " +
+                               std::to_string(P.size() - 1) + "]");
+    ui.push_back(uint32_t(i));
+  }
+  auto N = pl.get_normals("N");
+  auto uv = pl.get_point2s("uv");
+  pl.ignore("faceIndices");
+  pl.check_unused("Shape \"trianglemesh\"");
+  return detail::make_world_mesh(P, N, uv, ui, xf, gs_.reverse);
+}
+
+TriangleMesh Parser::ply_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf) {
+  std::string f = pl.get_string("filename", "");
+  if (f.empty()) d.fail("plymesh: missing \"string filename\"");
+  std::string path = resolve(f, d, false);
+  if (!fs::exists(path)) d.fail("plymesh: cannot open PLY file '" + path + "'");
+  pl.check_unused("Shape \"plymesh\"");
+  scene_.input_files.push_back(path);
+  PlyMesh pm = read_ply(path);
+  return detail::make_world_mesh(pm.positions, pm.normals, pm.uvs, pm.indices, xf, gs_.reverse);
+}
+
+Sphere Parser::sphere_shape(const Token& d, const ParamList& pl, const Mat4& xf) {
+  pl.check_range("radius", 0, HUGE_VAL, true);
+  float r = pl.get_float("radius", 1);
+  float zmin = pl.get_float("zmin", -r), zmax = pl.get_float("zmax", r), phimax = pl.get_float("phimax", 360);
+  if (zmin > -r || zmax < r || phimax < 360) d.fail("sphere: partial spheres (zmin/zmax/phimax) are not supported");
+  pl.check_unused("Shape \"sphere\"");
+  if (!(r > 0)) d.fail("sphere: radius must be positive");
+  float s;
+  if (!uniform_scale(xf, s)) d.fail("sphere: its transform must be a rotation, translation and uniform scale");
+  Sphere sp;
+  sp.center = xf.apply_point(Vec3(0));
+  sp.radius = r * s;
+  if (!within_world(sp.center) || !(sp.radius <= kMaxWorldCoordinate))
+    d.fail(fmt::format("sphere: \"radius\" {} lies beyond the supported world extent (|x| <= {:g}) after the transform",
+                       sp.radius, kMaxWorldCoordinate));
+  sp.material = gs_.material;
+  sp.emission = gs_.area;
+  sp.animation = gs_.shape_animation;
+  sp.flip_normal = gs_.reverse != (xf.det3() < 0);
+  return sp;
+}
+
+// Project extension (pbrt-v4 has no such shapes): the file's triangles with the current
+// material, transform, orientation and area light; the file's own materials are ignored.
+void Parser::mesh_file_shape(const Token& d, const std::string& type, const ParamList& pl, const Mat4& xf,
+                             std::vector<TriangleMesh>& out) {
+  std::string f = pl.get_string("filename", "");
+  if (f.empty()) d.fail(type + ": missing \"string filename\"");
+  std::string path = resolve(f, d, false);
+  if (!fs::exists(path)) d.fail(type + ": cannot open file '" + path + "'");
+  pl.check_unused("Shape \"" + type + "\"");
+  scene_.input_files.push_back(path);
+  detail::MeshImport opt;
+  opt.world_from_object = xf;
+  opt.reverse_orientation = gs_.reverse;
+  opt.use_file_materials = false;
+  opt.material = gs_.material;
+  opt.emission = gs_.area;
+  opt.error_file = *d.file;
+  opt.error_line = d.line;
+  if (type == "objmesh") detail::import_obj(path, opt, scene_, out);
+  else detail::import_gltf(path, opt, scene_, out, nullptr);
+}
+
+void Parser::add_shape(const Token& d, const std::string& type, const ParamList& pl, std::vector<TriangleMesh>& out) {
+  const Mat4& xf = gs_.ctm[0];  // motion blur of shapes is not supported: start transform
+  if (type == "trianglemesh") {
+    out.push_back(triangle_mesh_shape(d, pl, xf));
+  } else if (type == "plymesh") {
+    out.push_back(ply_mesh_shape(d, pl, xf));
+  } else if (type == "sphere") {
+    Sphere sp = sphere_shape(d, pl, xf);
+    (current_instance_ ? current_instance_->spheres : scene_.spheres).push_back(sp);
+  } else if (type == "objmesh" || type == "gltfmesh") {
+    mesh_file_shape(d, type, pl, xf, out);
+  } else {
+    d.fail("unsupported shape '" + type + "' (supported: trianglemesh, plymesh, sphere, objmesh, gltfmesh)");
+  }
+}
+
 void Parser::shape(const Token& d, const std::string& type, const ParamList& pl) {
   if (current_instance_ && gs_.area) d.fail("area lights are not supported with object instancing (as in pbrt-v4)");
   std::vector<TriangleMesh>& out = current_instance_ ? current_instance_->meshes : scene_.meshes;
   size_t first = out.size();
   std::string src = *d.file + ":" + std::to_string(d.line);
-  const Mat4& xf = gs_.ctm[0];  // motion blur of shapes is not supported: start transform
   try {
-    if (type == "trianglemesh") {
-      std::vector<Vec3> P = pl.get_point3s("P");
-      if (P.empty()) d.fail("trianglemesh: missing \"point3 P\"");
-      std::vector<int> idx = pl.get_ints("indices");
-      if (idx.empty()) {
-        if (P.size() != 3) d.fail("trianglemesh: \"integer indices\" required unless there are exactly 3 vertices");
-        idx = {0, 1, 2};
-      }
-      std::vector<uint32_t> ui;
-      for (int i : idx) {
-        if (i < 0 || size_t(i) >= P.size())
-          pl.find("indices")->fail("vertex index " + std::to_string(i) + " is out of range [0, " +
-                                   std::to_string(P.size() - 1) + "]");
-        ui.push_back(uint32_t(i));
-      }
-      auto N = pl.get_normals("N");
-      auto uv = pl.get_point2s("uv");
-      pl.ignore("faceIndices");
-      pl.check_unused("Shape \"trianglemesh\"");
-      out.push_back(detail::make_world_mesh(P, N, uv, ui, xf, gs_.reverse));
-    } else if (type == "plymesh") {
-      std::string f = pl.get_string("filename", "");
-      if (f.empty()) d.fail("plymesh: missing \"string filename\"");
-      std::string path = resolve(f, d, false);
-      if (!fs::exists(path)) d.fail("plymesh: cannot open PLY file '" + path + "'");
-      pl.check_unused("Shape \"plymesh\"");
-      scene_.input_files.push_back(path);
-      PlyMesh pm = read_ply(path);
-      out.push_back(detail::make_world_mesh(pm.positions, pm.normals, pm.uvs, pm.indices, xf, gs_.reverse));
-    } else if (type == "sphere") {
-      pl.check_range("radius", 0, HUGE_VAL, true);
-      float r = pl.get_float("radius", 1);
-      float zmin = pl.get_float("zmin", -r), zmax = pl.get_float("zmax", r), phimax = pl.get_float("phimax", 360);
-      if (zmin > -r || zmax < r || phimax < 360) d.fail("sphere: partial spheres (zmin/zmax/phimax) are not supported");
-      pl.check_unused("Shape \"sphere\"");
-      if (!(r > 0)) d.fail("sphere: radius must be positive");
-      float s;
-      if (!uniform_scale(xf, s)) d.fail("sphere: its transform must be a rotation, translation and uniform scale");
-      Sphere sp;
-      sp.center = xf.apply_point(Vec3(0));
-      sp.radius = r * s;
-      if (!within_world(sp.center) || !(sp.radius <= kMaxWorldCoordinate))
-        d.fail(fmt::format("sphere: \"radius\" {} lies beyond the supported world extent (|x| <= {:g}) after the transform",
-                           sp.radius, kMaxWorldCoordinate));
-      sp.material = gs_.material;
-      sp.emission = gs_.area;
-      sp.animation = gs_.shape_animation;
-      sp.flip_normal = gs_.reverse != (xf.det3() < 0);
-      (current_instance_ ? current_instance_->spheres : scene_.spheres).push_back(sp);
-    } else if (type == "objmesh" || type == "gltfmesh") {
-      // Project extension (pbrt-v4 has no such shapes): the file's triangles with the current
-      // material, transform, orientation and area light; the file's own materials are ignored.
-      std::string f = pl.get_string("filename", "");
-      if (f.empty()) d.fail(type + ": missing \"string filename\"");
-      std::string path = resolve(f, d, false);
-      if (!fs::exists(path)) d.fail(type + ": cannot open file '" + path + "'");
-      pl.check_unused("Shape \"" + type + "\"");
-      scene_.input_files.push_back(path);
-      detail::MeshImport opt;
-      opt.world_from_object = xf;
-      opt.reverse_orientation = gs_.reverse;
-      opt.use_file_materials = false;
-      opt.material = gs_.material;
-      opt.emission = gs_.area;
-      opt.error_file = *d.file;
-      opt.error_line = d.line;
-      if (type == "objmesh") detail::import_obj(path, opt, scene_, out);
-      else detail::import_gltf(path, opt, scene_, out, nullptr);
-    } else {
-      d.fail("unsupported shape '" + type + "' (supported: trianglemesh, plymesh, sphere, objmesh, gltfmesh)");
-    }
+    add_shape(d, type, pl, out);
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {

@@ -229,15 +229,21 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
   return rows;
 }
 
-}  // namespace
+// The jobs of a study, validated before the first render.
+struct JobPlan {
+  std::vector<Job> jobs;
+  std::vector<ReportConfig> report_configs;  // one per configuration: its first seed's job
+};
 
-int run_study(const StudyArgs& a) {
-  const auto t_start = std::chrono::steady_clock::now();
-  if (a.jobs < 1) throw StudyError("--jobs must be >= 1");
-  const std::string file = find_study(a.study);
-  const Study s = load_study(file, a.quick);
-  if (a.out.empty()) throw StudyError("--out DIR is required");
-  const fs::path out(a.out);
+// What this process does with the jobs, given what the stores hold already.
+struct Work {
+  std::vector<Row> known;           // rows of the main store and of every shard's
+  std::vector<const Job*> pending;  // to run here
+  std::vector<const Job*> missing;  // --merge: jobs that no store holds
+  std::set<std::string> stale;      // ids of stored rows computed from older inputs
+};
+
+void prepare_out_dir(const StudyArgs& a, const fs::path& out) {
   if (!a.plan)  // a plan (--slurm, its --dry-run) writes nothing
     for (const char* d : {"", "references", "renders", "images", "plots"}) fs::create_directories(out / d);
   if (a.shard.active() && a.merge) throw StudyError("--shard and --merge exclude each other: merge once all shards ran");
@@ -250,8 +256,9 @@ int run_study(const StudyArgs& a) {
   } else if (!a.merge) {
     remove_stale_temp_files(out);
   }
+}
 
-  // Scenes, configurations, jobs. Everything is validated before the first render.
+std::vector<SceneData> load_scenes(const Study& s) {
   std::vector<SceneData> scenes(s.scenes.size());
   for (size_t i = 0; i < s.scenes.size(); ++i) {
     scenes[i].as_written = s.scenes[i];
@@ -261,10 +268,30 @@ int run_study(const StudyArgs& a) {
     scenes[i].inputs_hash = inputs_hash(scenes[i].scene, s.scene_paths[i]);
     apply_scene_hints(scenes[i].defaults, scenes[i].scene.hints);
   }
-  const std::vector<Configuration> configs = expand(s);
-  ReferenceCache refs((out / "references").string());
-  std::vector<Job> jobs;
-  std::vector<ReportConfig> report_configs;
+  return scenes;
+}
+
+// The part of a job's ids that its options do not say: the scene's inputs and the camera path's
+// content too, which determines the images like the scene's files do.
+std::string job_inputs(const SceneData& sd, const Options& o) {
+  const std::string& cam = o.render.camera_path;
+  return " inputs=" + sd.inputs_hash + (cam.empty() ? "" : " camera=" + hash_hex(read_text(cam)));
+}
+
+void describe_references(const Study& s, const SceneData& sd, ReferenceCache& refs, Job& j) {
+  if (!s.needs_reference()) return;
+  if (s.per_frame() && sequence_moves(sd.scene, j.options)) {
+    for (int f = 0; f < s.frames; ++f)
+      j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, f));
+  } else {
+    j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, s.frames - 1));
+  }
+}
+
+JobPlan plan_jobs(const Study& s, const std::string& file, const std::vector<SceneData>& scenes,
+                  const std::vector<Configuration>& configs, ReferenceCache& refs) {
+  JobPlan plan;
+  std::vector<Job>& jobs = plan.jobs;
   for (size_t si = 0; si < scenes.size(); ++si)
     for (size_t ci = 0; ci < configs.size(); ++ci) {
       for (size_t k = 0; k < s.seeds.size(); ++k) {
@@ -280,85 +307,65 @@ int run_study(const StudyArgs& a) {
           throw StudyError(fmt::format("{}: scene {}: {}", file, s.scenes[si], e.what()));
         }
         find_integrator(j.options.integrator);
-        // The camera path's content too: it determines the images like the scene's files do.
-        const std::string& cam = j.options.render.camera_path;
-        const std::string inputs =
-            " inputs=" + scenes[si].inputs_hash + (cam.empty() ? "" : " camera=" + hash_hex(read_text(cam)));
+        const std::string inputs = job_inputs(scenes[si], j.options);
         j.id = hash_hex(option_identity(j.options, s.scenes[si]) + inputs);
         if (std::any_of(jobs.begin(), jobs.end(), [&](const Job& o) { return o.id == j.id; })) continue;  // duplicate values
         Options no_seed = j.options;
         no_seed.render.seed = 0;
         j.config_id = hash_hex(option_identity(no_seed, s.scenes[si]) + inputs);
-        if (s.needs_reference()) {
-          const SceneData& sd = scenes[si];
-          if (s.per_frame() && sequence_moves(sd.scene, j.options)) {
-            for (int f = 0; f < s.frames; ++f)
-              j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, f));
-          } else {
-            j.refs.push_back(refs.describe(s, sd.scene, sd.as_written, sd.text + "\ninputs=" + sd.inputs_hash, sd.defaults, j.options, s.frames - 1));
-          }
-        }
-        if (j.seed_index == 0) report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
+        describe_references(s, scenes[si], refs, j);
+        if (j.seed_index == 0) plan.report_configs.push_back({j.config_id, s.scenes[si], configs[ci].values, !j.refs.empty()});
         jobs.push_back(std::move(j));
       }
     }
+  return plan;
+}
 
-  std::vector<std::string> columns = metric_columns(s);
-  ResultStore store(a.shard.active() ? shard_dir(a.out, a.shard) : out.string(), s.name, columns);
-  store.load();
-  // Done: a row in the main store or in any shard's (a job may have run in an earlier array).
+// Done: a row in the main store or in any shard's (a job may have run in an earlier array).
+std::vector<Row> known_rows(const StudyArgs& a, const Study& s, const std::vector<std::string>& columns,
+                            const ResultStore& store) {
   std::vector<Row> known = load_shard_rows(a.out, columns, s.name);
   if (a.shard.active()) {
-    ResultStore main_store(out.string(), s.name, columns);
+    ResultStore main_store(a.out, s.name, columns);
     main_store.load();
-    known = union_rows(main_store.rows(), known);
-  } else {
-    known = union_rows(store.rows(), known);
+    return union_rows(main_store.rows(), known);
   }
-  std::set<std::string> done;
-  for (const Row& r : known) done.insert(r.id);
-  if (a.plan) {
-    a.plan->jobs = jobs.size();
-    a.plan->missing.clear();
-    for (size_t p = 0; p < jobs.size(); ++p)
-      if (!done.count(jobs[p].id)) a.plan->missing.push_back(p);
-    return 0;
-  }
-  std::vector<const Job*> pending, missing;
+  return union_rows(store.rows(), known);
+}
+
+void fill_plan(StudyPlan& plan, const std::vector<Job>& jobs, const std::set<std::string>& done) {
+  plan.jobs = jobs.size();
+  plan.missing.clear();
+  for (size_t p = 0; p < jobs.size(); ++p)
+    if (!done.count(jobs[p].id)) plan.missing.push_back(p);
+}
+
+void select_jobs(const StudyArgs& a, const std::vector<Job>& jobs, const std::set<std::string>& done, Work& w) {
   for (size_t p = 0; p < jobs.size(); ++p) {
     if (done.count(jobs[p].id)) continue;
-    if (a.merge) missing.push_back(&jobs[p]);
-    else if (a.shard.owns(p)) pending.push_back(&jobs[p]);
+    if (a.merge) w.missing.push_back(&jobs[p]);
+    else if (a.shard.owns(p)) w.pending.push_back(&jobs[p]);
   }
   // Run order: per scene, seed by seed, every configuration of a seed in turn. A shared machine's
   // load drifts over minutes; run configuration by configuration, that drift would land on whole
   // configurations and read as a difference in frame time between them. Interleaved, it spreads
   // over all of them, and the paired (same-seed) comparisons see neighbouring runs.
-  std::stable_sort(pending.begin(), pending.end(), [](const Job* x, const Job* y) {
+  std::stable_sort(w.pending.begin(), w.pending.end(), [](const Job* x, const Job* y) {
     return std::tie(x->scene, x->seed_index, x->config) < std::tie(y->scene, y->seed_index, y->config);
   });
-  const std::set<std::string> stale = stale_ids(known, jobs, scenes);
-  if (!stale.empty() && !a.quiet)
-    std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
-                 "renderer changed since): recomputing them\n", stale.size());
+}
 
-  // References first (sequential, each with every thread), then the jobs.
+std::vector<const ReferenceJob*> references_to_render(const std::vector<const Job*>& pending, const ReferenceCache& refs) {
   std::vector<const ReferenceJob*> ref_todo;
   std::set<std::string> ref_keys;
   for (const Job* j : pending)
     for (const auto& r : j->refs)
       if (ref_keys.insert(r.key).second && !refs.on_disk(r.key)) ref_todo.push_back(&r);
+  return ref_todo;
+}
 
-  if (!a.quiet)
-    std::fprintf(stderr, "study %s%s%s: %zu scene(s) x %zu configuration(s) x %zu seed(s) = %zu job(s), %zu to run, %zu reference(s) to render, --jobs %d\n",
-                 s.name.c_str(), a.quick ? " (quick)" : "",
-                 a.shard.active() ? fmt::format(" shard {}/{}", a.shard.index, a.shard.count).c_str() : "", scenes.size(),
-                 configs.size(), s.seeds.size(), jobs.size(), pending.size(), ref_todo.size(), a.jobs);
-
-  g_interrupted = false;
-  auto old_int = std::signal(SIGINT, on_signal);
-  auto old_term = std::signal(SIGTERM, on_signal);
-  Progress progress(ref_todo.size() + pending.size(), !a.quiet);
+void render_references(const std::vector<const ReferenceJob*>& ref_todo, const std::vector<const Job*>& pending,
+                       const std::vector<SceneData>& scenes, ReferenceCache& refs, Progress& progress) {
   for (const ReferenceJob* r : ref_todo) {
     if (g_interrupted) break;
     const Job* owner = nullptr;
@@ -368,7 +375,12 @@ int run_study(const StudyArgs& a) {
     refs.get(*r, scenes[owner->scene].scene);
     progress.step("reference " + r->key.substr(0, 8));
   }
+}
 
+// Runs the pending jobs on `threads` threads until all ran, one failed or a signal came; returns
+// the first job's error ("" when none failed).
+std::string run_jobs(const Study& s, const std::vector<const Job*>& pending, const std::vector<SceneData>& scenes,
+                     ReferenceCache& refs, ResultStore& store, Progress& progress, int threads, const fs::path& out) {
   std::atomic<size_t> next{0};
   std::mutex error_mutex;
   std::string error;
@@ -392,55 +404,100 @@ int run_study(const StudyArgs& a) {
       }
     }
   };
-  std::vector<std::thread> threads;
-  for (int t = 1; t < std::min<int>(a.jobs, int(pending.size())); ++t) threads.emplace_back(worker);
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min<int>(threads, int(pending.size())); ++t) pool.emplace_back(worker);
   worker();
-  for (auto& t : threads) t.join();
+  for (auto& t : pool) t.join();
+  return error;
+}
+
+// The references, then the jobs, with SIGINT and SIGTERM caught: they stop both between items
+// (g_interrupted) so that what ran is saved. Rethrows the first job's error.
+void render_all(const StudyArgs& a, const Study& s, const std::vector<SceneData>& scenes, ReferenceCache& refs,
+                const std::vector<const ReferenceJob*>& ref_todo, const std::vector<const Job*>& pending,
+                ResultStore& store) {
+  g_interrupted = false;
+  auto old_int = std::signal(SIGINT, on_signal);
+  auto old_term = std::signal(SIGTERM, on_signal);
+  Progress progress(ref_todo.size() + pending.size(), !a.quiet);
+  render_references(ref_todo, pending, scenes, refs, progress);
+  const std::string error = run_jobs(s, pending, scenes, refs, store, progress, a.jobs, fs::path(a.out));
   progress.finish();
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
   if (!error.empty()) throw std::runtime_error(error);
-  if (g_interrupted) {
-    std::fprintf(stderr, "interrupted: %zu row(s) saved in %s; run the same command again to resume\n", store.size(),
-                 (out / "results.csv").c_str());
-    return 130;
-  }
-  if (a.shard.active()) {  // the report is the merge's
-    if (!a.quiet)
-      std::fprintf(stderr, "shard %d/%d: %zu job(s) run, rows in %s; gather all shards with --merge\n", a.shard.index,
-                   a.shard.count, pending.size(), (fs::path(shard_dir(a.out, a.shard)) / "results.csv").c_str());
-    return 0;
-  }
+}
 
-  // Final pass: noise across seeds, rows in job order, plots, report.
-  std::map<std::string, size_t> order;
-  std::map<std::string, std::vector<std::string>> seeds_of_config;
-  for (const auto& j : jobs) {
-    order[j.id] = j.index;
-    seeds_of_config[j.config_id].push_back(j.id);
-  }
-  std::vector<Row> rows = union_rows(store.rows(), known);
+// Drops the stale rows that a row of the current inputs replaces (what they compute is computed again).
+void drop_replaced_rows(std::vector<Row>& rows, const std::map<std::string, size_t>& order,
+                        const std::set<std::string>& stale) {
   std::set<std::string> recomputed;  // what the rows of the current inputs compute
   for (const Row& r : rows)
     if (order.count(r.id)) recomputed.insert(row_key(r.scene, r.seed, r.options));
   std::erase_if(rows, [&](const Row& r) { return stale.count(r.id) > 0 && recomputed.count(row_key(r.scene, r.seed, r.options)); });
-  if (s.has_metric("noise")) {
-    std::map<std::string, double> noise;
-    for (const auto& [cfg, ids] : seeds_of_config) {
-      std::vector<Image> imgs;
-      for (const auto& id : ids) {
-        fs::path p = out / "renders" / (id + ".exr");
-        if (fs::exists(p)) imgs.push_back(read_image(p.string()));
-      }
-      noise[cfg] = noise_across(imgs);
+}
+
+void add_noise(const Study& s, const std::vector<Job>& jobs, const std::map<std::string, size_t>& order,
+               const fs::path& out, std::vector<Row>& rows) {
+  std::map<std::string, std::vector<std::string>> seeds_of_config;
+  for (const auto& j : jobs) seeds_of_config[j.config_id].push_back(j.id);
+  std::map<std::string, double> noise;
+  for (const auto& [cfg, ids] : seeds_of_config) {
+    std::vector<Image> imgs;
+    for (const auto& id : ids) {
+      fs::path p = out / "renders" / (id + ".exr");
+      if (fs::exists(p)) imgs.push_back(read_image(p.string()));
     }
-    for (auto& r : rows) {
-      if (!order.count(r.id)) continue;  // a row of older inputs or another study version keeps its value
-      auto it = noise.find(r.config);
-      bool last = r.frame == s.frames - 1;
-      r.metrics["noise"] = it != noise.end() && last ? it->second : kNone;
-    }
+    noise[cfg] = noise_across(imgs);
   }
+  for (auto& r : rows) {
+    if (!order.count(r.id)) continue;  // a row of older inputs or another study version keeps its value
+    auto it = noise.find(r.config);
+    bool last = r.frame == s.frames - 1;
+    r.metrics["noise"] = it != noise.end() && last ? it->second : kNone;
+  }
+}
+
+void write_plots_and_report(const StudyArgs& a, const Study& s, const JobPlan& plan, const Work& w,
+                            const std::vector<Row>& current, const ReferenceCache& refs,
+                            std::chrono::steady_clock::time_point t_start) {
+  const fs::path out(a.out);
+  std::vector<PlotResult> plots = write_plots(s, current, (out / "plots").string(), a.quick);
+  for (const auto& p : plots)
+    if (!p.drawn) std::fprintf(stderr, "warning: plot %s not drawn: %s\n", p.name.c_str(), p.message.c_str());
+  ReportInfo info;
+  info.jobs = a.jobs;
+  info.quick = a.quick;
+  info.references_rendered = refs.rendered();
+  info.references_reused = refs.reused();
+  info.jobs_run = w.pending.size();
+  info.jobs_total = plan.jobs.size();
+  info.stale_rows = w.stale.size();
+  info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  write_report(out.string(), s, current, plan.report_configs, plots, info);
+}
+
+// --merge: names the first few jobs that no store holds. Returns the exit status.
+int report_missing(const Study& s, const std::vector<const Job*>& missing, size_t jobs) {
+  if (missing.empty()) return 0;
+  std::string list;
+  for (size_t i = 0; i < missing.size() && i < 5; ++i)
+    list += fmt::format("{}{} seed {} ({})", i ? ", " : "", s.scenes[missing[i]->scene], missing[i]->seed, missing[i]->id);
+  std::fprintf(stderr, "error: --merge: %zu of %zu job(s) missing from every shard: %s%s; resubmit (--slurm runs only the missing ones) or run the study here without --merge\n",
+               missing.size(), jobs, list.c_str(), missing.size() > 5 ? ", ..." : "");
+  return 1;
+}
+
+// Final pass: noise across seeds, rows in job order, plots, report.
+int finish_study(const StudyArgs& a, const Study& s, const JobPlan& plan, const Work& w, ResultStore& store,
+                 const ReferenceCache& refs, std::chrono::steady_clock::time_point t_start) {
+  const fs::path out(a.out);
+  const std::vector<Job>& jobs = plan.jobs;
+  std::map<std::string, size_t> order;
+  for (const auto& j : jobs) order[j.id] = j.index;
+  std::vector<Row> rows = union_rows(store.rows(), w.known);
+  drop_replaced_rows(rows, order, w.stale);
+  if (s.has_metric("noise")) add_noise(s, jobs, order, out, rows);
   std::stable_sort(rows.begin(), rows.end(), [&](const Row& x, const Row& y) {
     auto ix = order.count(x.id) ? order[x.id] : jobs.size(), iy = order.count(y.id) ? order[y.id] : jobs.size();
     return ix != iy ? ix < iy : x.frame < y.frame;
@@ -450,31 +507,69 @@ int run_study(const StudyArgs& a) {
   std::vector<Row> current;
   for (const auto& r : rows)
     if (order.count(r.id)) current.push_back(r);
-  std::vector<PlotResult> plots = write_plots(s, current, (out / "plots").string(), a.quick);
-  for (const auto& p : plots)
-    if (!p.drawn) std::fprintf(stderr, "warning: plot %s not drawn: %s\n", p.name.c_str(), p.message.c_str());
-  ReportInfo info;
-  info.jobs = a.jobs;
-  info.quick = a.quick;
-  info.references_rendered = refs.rendered();
-  info.references_reused = refs.reused();
-  info.jobs_run = pending.size();
-  info.jobs_total = jobs.size();
-  info.stale_rows = stale.size();
-  info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  write_report(out.string(), s, current, report_configs, plots, info);
+  write_plots_and_report(a, s, plan, w, current, refs, t_start);
   if (!a.quiet)
     std::fprintf(stderr, "done: %zu row(s), %d reference(s) rendered, %d reused; %s\n", rows.size(), refs.rendered(),
                  refs.reused(), (out / "report.html").c_str());
-  if (!missing.empty()) {
-    std::string list;
-    for (size_t i = 0; i < missing.size() && i < 5; ++i)
-      list += fmt::format("{}{} seed {} ({})", i ? ", " : "", s.scenes[missing[i]->scene], missing[i]->seed, missing[i]->id);
-    std::fprintf(stderr, "error: --merge: %zu of %zu job(s) missing from every shard: %s%s; resubmit (--slurm runs only the missing ones) or run the study here without --merge\n",
-                 missing.size(), jobs.size(), list.c_str(), missing.size() > 5 ? ", ..." : "");
-    return 1;
+  return report_missing(s, w.missing, jobs.size());
+}
+
+}  // namespace
+
+int run_study(const StudyArgs& a) {
+  const auto t_start = std::chrono::steady_clock::now();
+  if (a.jobs < 1) throw StudyError("--jobs must be >= 1");
+  const std::string file = find_study(a.study);
+  const Study s = load_study(file, a.quick);
+  if (a.out.empty()) throw StudyError("--out DIR is required");
+  const fs::path out(a.out);
+  prepare_out_dir(a, out);
+
+  // Scenes, configurations, jobs. Everything is validated before the first render.
+  const std::vector<SceneData> scenes = load_scenes(s);
+  const std::vector<Configuration> configs = expand(s);
+  ReferenceCache refs((out / "references").string());
+  const JobPlan plan = plan_jobs(s, file, scenes, configs, refs);
+  const std::vector<Job>& jobs = plan.jobs;
+
+  std::vector<std::string> columns = metric_columns(s);
+  ResultStore store(a.shard.active() ? shard_dir(a.out, a.shard) : out.string(), s.name, columns);
+  store.load();
+  Work w;
+  w.known = known_rows(a, s, columns, store);
+  std::set<std::string> done;
+  for (const Row& r : w.known) done.insert(r.id);
+  if (a.plan) {
+    fill_plan(*a.plan, jobs, done);
+    return 0;
   }
-  return 0;
+  select_jobs(a, jobs, done, w);
+  w.stale = stale_ids(w.known, jobs, scenes);
+  if (!w.stale.empty() && !a.quiet)
+    std::fprintf(stderr, "%zu stored row(s) were computed from older inputs (scene files, meshes, textures or the "
+                 "renderer changed since): recomputing them\n", w.stale.size());
+
+  // References first (sequential, each with every thread), then the jobs.
+  const std::vector<const ReferenceJob*> ref_todo = references_to_render(w.pending, refs);
+  if (!a.quiet)
+    std::fprintf(stderr, "study %s%s%s: %zu scene(s) x %zu configuration(s) x %zu seed(s) = %zu job(s), %zu to run, %zu reference(s) to render, --jobs %d\n",
+                 s.name.c_str(), a.quick ? " (quick)" : "",
+                 a.shard.active() ? fmt::format(" shard {}/{}", a.shard.index, a.shard.count).c_str() : "", scenes.size(),
+                 configs.size(), s.seeds.size(), jobs.size(), w.pending.size(), ref_todo.size(), a.jobs);
+
+  render_all(a, s, scenes, refs, ref_todo, w.pending, store);
+  if (g_interrupted) {
+    std::fprintf(stderr, "interrupted: %zu row(s) saved in %s; run the same command again to resume\n", store.size(),
+                 (out / "results.csv").c_str());
+    return 130;
+  }
+  if (a.shard.active()) {  // the report is the merge's
+    if (!a.quiet)
+      std::fprintf(stderr, "shard %d/%d: %zu job(s) run, rows in %s; gather all shards with --merge\n", a.shard.index,
+                   a.shard.count, w.pending.size(), (fs::path(shard_dir(a.out, a.shard)) / "results.csv").c_str());
+    return 0;
+  }
+  return finish_study(a, s, plan, w, store, refs, t_start);
 }
 
 }  // namespace rl::study

@@ -424,75 +424,90 @@ void Session::reference_turn(const Options& o, const CameraKey& camera, int fram
   reference_full_ = target > 0 && bg.spp() >= target;
 }
 
+struct Session::Turn {
+  bool restart = false, threads = false, moved = false;  // what changed for the view since its last frame
+  bool reference = false;                                // the background reference's turn
+  bool reference_on = false;
+  Options o;
+};
+
+// Waits for work and takes what the UI handed over: the options, the camera (the played path's
+// where one plays) and, on the view's turn, the changes since its last frame.
+bool Session::take_turn(Turn& t, CameraKey& camera, PathKey& path_key) {
+  std::unique_lock lk(m_);
+  auto view_wanted = [&] { return !paused_ && (budget_ < 0 || done_ < budget_); };
+  auto reference_wanted = [&] { return worker_reference_.on && !reference_full_; };
+  cv_.wait(lk, [&] { return quit_ || (error_.empty() && (view_wanted() || reference_wanted())); });
+  if (quit_) return false;
+  // The reference's turn when the viewer renders nothing, or when it is behind its share of
+  // the render time.
+  const double share = worker_reference_.share;
+  t.reference = reference_wanted() && (!view_wanted() || reference_ms_ <= share * (reference_ms_ + view_ms_));
+  t.reference_on = worker_reference_.on;
+  t.o = pending_;
+  if (t.reference) {
+    reference_abort_ = false;
+    camera = play_ ? play_->at_frame(std::min(play_index_, play_frames_ - 1), play_frames_) : pending_camera_;
+  } else {
+    std::swap(t.restart, restart_);
+    abort_ = false;  // a change from here on aborts the frame below
+    std::swap(t.threads, threads_changed_);
+    std::swap(t.moved, camera_changed_);
+    camera = pending_camera_;
+    path_key = pending_path_key_;
+    if (play_ && play_index_ < play_frames_) {
+      camera = play_->at_frame(play_index_, play_frames_);
+      t.moved = play_index_++ > 0;
+    } else if (play_) {
+      camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
+    }
+  }
+  return true;
+}
+
+// Renders one frame of the view and publishes it (worker thread).
+void Session::view_turn(const Turn& t, const CameraKey& camera, const PathKey& path_key,
+                        std::unique_ptr<FrameRenderer>& renderer, Image& frame) {
+  const Options& o = t.o;
+  if (!renderer) renderer = std::make_unique<FrameRenderer>(scene_, o);
+  else if (t.restart) renderer->reset(o);
+  else if (t.threads) renderer->set_threads(o.render.threads);
+  if (t.restart || t.moved) {
+    std::lock_guard lk(m_);
+    accum_.reset();
+  }
+  StageTimes stages;
+  // A restart or quit requested mid-frame ends the frame at the integrator's next progress
+  // report (a tile or a wave) instead of after it: a slow frame does not delay the change.
+  const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages, [this](int, int) {
+    if (abort_) throw FrameAborted();
+  });
+  // A reference of another view must not be compared with this frame: re-aim it first.
+  const bool reference_moved = t.reference_on && aim_reference(o, camera, renderer->frames_rendered() - 1);
+  std::lock_guard lk(m_);
+  accum_.add(frame);  // under the lock: the UI copies what it shows straight from it
+  if (reference_moved) reference_restarted();
+  view_frame_ = renderer->frames_rendered() - 1;
+  view_ms_ += ms;
+  frame_times_.push_back(ms);
+  if (frame_times_.size() > 4096) frame_times_.erase(frame_times_.begin(), frame_times_.end() - 4096);
+  if (worker_recording_) recorded_.push_back(path_key);
+  shared_readout_ = {ms, std::move(stages), accum_.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
+  new_frame_ = true;
+  ++done_;
+}
+
 void Session::worker() {
   std::unique_ptr<FrameRenderer> renderer;
   Image frame;
   CameraKey camera = pending_camera_;
   PathKey path_key = pending_path_key_;
   for (;;) {
-    bool restart = false, threads = false, moved = false, reference = false, reference_on = false;
-    Options o;
-    {
-      std::unique_lock lk(m_);
-      auto view_wanted = [&] { return !paused_ && (budget_ < 0 || done_ < budget_); };
-      auto reference_wanted = [&] { return worker_reference_.on && !reference_full_; };
-      cv_.wait(lk, [&] { return quit_ || (error_.empty() && (view_wanted() || reference_wanted())); });
-      if (quit_) return;
-      // The reference's turn when the viewer renders nothing, or when it is behind its share of
-      // the render time.
-      const double share = worker_reference_.share;
-      reference = reference_wanted() && (!view_wanted() || reference_ms_ <= share * (reference_ms_ + view_ms_));
-      reference_on = worker_reference_.on;
-      o = pending_;
-      if (reference) {
-        reference_abort_ = false;
-        camera = play_ ? play_->at_frame(std::min(play_index_, play_frames_ - 1), play_frames_) : pending_camera_;
-      } else {
-        std::swap(restart, restart_);
-        abort_ = false;  // a change from here on aborts the frame below
-        std::swap(threads, threads_changed_);
-        std::swap(moved, camera_changed_);
-        camera = pending_camera_;
-        path_key = pending_path_key_;
-        if (play_ && play_index_ < play_frames_) {
-          camera = play_->at_frame(play_index_, play_frames_);
-          moved = play_index_++ > 0;
-        } else if (play_) {
-          camera = play_->at_frame(play_frames_ - 1, play_frames_);  // the path ended: hold its last key
-        }
-      }
-    }
+    Turn t;
+    if (!take_turn(t, camera, path_key)) return;
     try {
-      if (reference) {
-        reference_turn(o, camera, view_frame_);
-      } else {
-        if (!renderer) renderer = std::make_unique<FrameRenderer>(scene_, o);
-        else if (restart) renderer->reset(o);
-        else if (threads) renderer->set_threads(o.render.threads);
-        if (restart || moved) {
-          std::lock_guard lk(m_);
-          accum_.reset();
-        }
-        StageTimes stages;
-        // A restart or quit requested mid-frame ends the frame at the integrator's next progress
-        // report (a tile or a wave) instead of after it: a slow frame does not delay the change.
-        const double ms = renderer->render_frame(camera, o.render.frames, frame, &stages, [this](int, int) {
-          if (abort_) throw FrameAborted();
-        });
-        // A reference of another view must not be compared with this frame: re-aim it first.
-        const bool reference_moved = reference_on && aim_reference(o, camera, renderer->frames_rendered() - 1);
-        std::lock_guard lk(m_);
-        accum_.add(frame);  // under the lock: the UI copies what it shows straight from it
-        if (reference_moved) reference_restarted();
-        view_frame_ = renderer->frames_rendered() - 1;
-        view_ms_ += ms;
-        frame_times_.push_back(ms);
-        if (frame_times_.size() > 4096) frame_times_.erase(frame_times_.begin(), frame_times_.end() - 4096);
-        if (worker_recording_) recorded_.push_back(path_key);
-        shared_readout_ = {ms, std::move(stages), accum_.count(), renderer->frames_rendered() - 1, frame.width, frame.height, done_ + 1};
-        new_frame_ = true;
-        ++done_;
-      }
+      if (t.reference) reference_turn(t.o, camera, view_frame_);
+      else view_turn(t, camera, path_key, renderer, frame);
     } catch (const FrameAborted&) {
       // Only a pending restart, view change or quit aborts: the next turn replaces the
       // integrator, whose state is now half a frame's (the BVH and lights stay), re-aims the
@@ -500,8 +515,8 @@ void Session::worker() {
       continue;
     } catch (const std::exception& e) {
       std::lock_guard lk(m_);
-      error_ = reference ? std::string("background reference: ") + e.what() : e.what();
-      if (reference) background_.reset();
+      error_ = t.reference ? std::string("background reference: ") + e.what() : e.what();
+      if (t.reference) background_.reset();
       else renderer.reset();  // rebuilt from the pending options once the error is cleared
     }
     done_cv_.notify_all();

@@ -147,6 +147,11 @@ class Session {
 
  private:
   void worker();
+  // One turn of the worker: what take_turn handed it under m_ (defined in session.cpp).
+  struct Turn;
+  bool take_turn(Turn& t, CameraKey& camera, PathKey& path_key);  // false: quit
+  void view_turn(const Turn& t, const CameraKey& camera, const PathKey& path_key,
+                 std::unique_ptr<FrameRenderer>& renderer, Image& frame);
   void push_restart();
   void reference_turn(const Options& o, const CameraKey& camera, int frame);
   bool aim_reference(const Options& o, const CameraKey& camera, int frame);
