@@ -9,6 +9,7 @@
 #include <string>
 
 #include "image/image.h"
+#include "frame/integrator.h"
 #include "frame/options.h"
 #include "frame/render.h"
 #include "scene/loader.h"
@@ -63,6 +64,20 @@ inline CommandResult run_restir(const std::string& args) {
   int st = pclose(f);
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+// For tests that share one Options between integrators (a loop over them): the keys set explicitly
+// narrowed to the groups o.integrator reads (check_option_groups), as if each had been set only
+// where it is read. The values stay; only their record as explicit goes.
+inline Options only_read_keys(Options o) {
+  const IntegratorInfo& info = find_integrator(o.integrator);
+  std::erase_if(o.explicit_keys, [&](const std::string& k) {
+    const size_t dot = k.find('.');
+    if (dot == std::string::npos) return false;
+    const std::string group = k.substr(0, dot);
+    return group != "film" && group != "render" && group != "output" && !info.reads_group(group);
+  });
+  return o;
 }
 
 }  // namespace rl::test

@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "frame/options.h"
+#include "frame/render.h"
 
 using namespace rl;
 
@@ -47,4 +48,51 @@ TEST_CASE("options: help lists every key once") {
     CHECK_MESSAGE(first != std::string::npos, k);
     CHECK(h.find("  " + k + " ", first + 1) == std::string::npos);
   }
+}
+
+// Issue 43: a key set explicitly that the integrator does not read is an error naming the integrator
+// and the groups it reads; a scene file's values are not explicit; the viewer's panel is not checked.
+TEST_CASE("options: an explicitly set key the integrator does not read is an error") {
+  Options o;
+  set_option(o, "integrator", "restir-di");
+  set_option(o, "pt.spatial_radius", "10");
+  CHECK_THROWS_WITH_AS(validate_options(o),
+                       "option 'pt.spatial_radius' is not read by the integrator restir-di (it reads di.*, film.*, render.*, output.*): "
+                       "remove it, or set it only where the integrator reads it (a study axis value null leaves a key unset)",
+                       OptionError);
+  set_option(o, "integrator", "restir-pt");  // reads pt.* (and di.* for pt.direct = restir-di)
+  CHECK_NOTHROW(validate_options(o));
+  set_option(o, "di.light_candidates", "8");
+  CHECK_NOTHROW(validate_options(o));
+  o.integrator = "pt";
+  CHECK_THROWS_WITH_AS(validate_options(o), doctest::Contains("'pt.spatial_radius' is not read by the integrator pt"), OptionError);
+  o.integrator = "ssr";  // ssr's lit colour is the path tracer at depth 1: it reads path.*
+  Options ssr;
+  set_option(ssr, "integrator", "ssr");
+  set_option(ssr, "path.nee", "false");
+  set_option(ssr, "render.spp", "2");
+  set_option(ssr, "film.width", "32");
+  set_option(ssr, "output.exposure", "1");
+  CHECK_NOTHROW(validate_options(ssr));
+  // Assigning a field is not setting a key: only set_option (CLI, config, study, JSON) records one.
+  Options direct;
+  direct.integrator = "restir-di";
+  direct.pt.reuse.spatial_radius = 3;
+  CHECK_NOTHROW(validate_options(direct));
+  // A config file's keys are explicit too.
+  Options cfg;
+  apply_options_json(cfg, R"({"integrator": "restir-gi", "di": {"spatial_neighbors": 2}})");
+  CHECK_THROWS_WITH_AS(validate_options(cfg), doctest::Contains("'di.spatial_neighbors' is not read by the integrator restir-gi"),
+                       OptionError);
+}
+
+TEST_CASE("options: a scene file's values are not explicit keys") {
+  Options o;
+  SceneHints hints;
+  hints.max_depth = 65;  // the Cornell box's Integrator "path" "integer maxdepth" 65
+  set_option(o, "integrator", "restir-di");
+  apply_scene_hints(o, hints);
+  CHECK(o.path.max_depth == 65);
+  CHECK(o.explicit_keys == std::vector<std::string>{"integrator"});
+  CHECK_NOTHROW(validate_options(o));
 }

@@ -152,6 +152,7 @@ TEST_SUITE("render") {
       Options o = options_for(scene, {"render.spp=1", "render.frames=2", "film.width=16", "film.height=16",
                                       "render.light_selection=uniform", "path.max_depth=2"});
       set_option(o, "integrator", integrator);
+      o = only_read_keys(o);  // path.max_depth: not restir-di's
       CAPTURE(integrator);
       bool threw = false;
       try {
@@ -176,6 +177,7 @@ TEST_SUITE("render") {
                                       "di.max_history=0", "gi.max_history=0", "pt.max_history=0", "pt.shift=random-replay",
                                       "render.debug_view=confidence"});
       set_option(o, "integrator", integrator);
+      o = only_read_keys(o);  // each integrator's own max_history
       RenderResult r;
       CHECK_NOTHROW(r = render(scene, o));
       float most = 0;

@@ -27,6 +27,7 @@ TEST_SUITE("stage_times") {
       CAPTURE(name);
       Options o = options_for(scene, {"render.spp=1", "render.frames=2", "path.max_depth=3"});
       o.integrator = info.name;
+      o = only_read_keys(o);  // path.max_depth: not restir-di's
       o.film.width = o.film.height = 8;
       RenderResult r = render(scene, o);
       REQUIRE(r.frame_stages.size() == 2);

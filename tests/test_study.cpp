@@ -246,13 +246,33 @@ TEST_SUITE("study") {
     CHECK(expand(none).size() == 1);
   }
 
+  TEST_CASE("a zipped axis value null leaves its key unset; a key the integrator does not read is an error before rendering") {
+    const Study z = parse_study(study_json(R"("combine": "zip", "axes": [{"key": "integrator", "values": ["restir-pt", "pt"]},
+                                                 {"key": "pt.shift", "values": ["reconnection", null]}])"), "/tmp/z.json", false);
+    const auto c = expand(z);
+    REQUIRE(c.size() == 2);
+    REQUIRE(c[0].values.size() == 2);
+    CHECK(c[0].values[1].second == "reconnection");
+    REQUIRE(c[1].values.size() == 1);  // pt: no pt.shift
+    CHECK(c[1].values[0].second == "pt");
+    const Options defaults;
+    CHECK(make_options(z, defaults, c[0], 1).pt.shift == ShiftMapping::reconnection);
+    CHECK_NOTHROW(make_options(z, defaults, c[1], 1));
+    // The same study with a value where pt reads none: refused when the jobs are made.
+    const Study bad = parse_study(study_json(R"("combine": "zip", "axes": [{"key": "integrator", "values": ["restir-pt", "pt"]},
+                                                   {"key": "pt.shift", "values": ["reconnection", "hybrid"]}])"), "/tmp/b.json", false);
+    CHECK_THROWS_WITH_AS(make_options(bad, defaults, expand(bad)[1], 1), doctest::Contains("'pt.shift' is not read by the integrator pt"),
+                         OptionError);
+  }
+
   TEST_CASE("ranges: integer and fractional steps, inclusive end") {
     Study s = parse_study(study_json(R"("axes": [{"key": "di.spatial_neighbors", "range": {"from": 0, "to": 8, "step": 2}},
                                                  {"key": "di.spatial_radius", "range": {"from": 0.5, "to": 1.5, "step": 0.25}}])"),
                           "/tmp/r.json", false);
     REQUIRE(s.axes.size() == 2);
-    CHECK(s.axes[0].values == std::vector<std::string>{"0", "2", "4", "6", "8"});
-    CHECK(s.axes[1].values == std::vector<std::string>{"0.5", "0.75", "1", "1.25", "1.5"});
+    using Values = std::vector<std::optional<std::string>>;
+    CHECK(s.axes[0].values == Values{"0", "2", "4", "6", "8"});
+    CHECK(s.axes[1].values == Values{"0.5", "0.75", "1", "1.25", "1.5"});
     CHECK(expand(s).size() == 25);
     CHECK(error_of(study_json(R"("axes": [{"key": "di.spatial_radius", "range": {"from": 0, "to": 1, "step": 0}}])")) != "");
   }

@@ -9,6 +9,8 @@
 // frame carries them, so that an animated scene's history is judged in its own frame's scene as on
 // the CPU (GRIS, Lin et al. 2022, sec. 5).
 #pragma once
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "backends/bvh.h"
@@ -130,5 +132,13 @@ struct BvhBackend {
 
 // The host twin of the CUDA backend (render.backend = cpu-bvh).
 using HostBvhBackend = BvhBackend<HostExec>;
+
+// An algorithm's frame on the host backend render.backend names (cpu or cpu-bvh): what its registry
+// row's `make` returns (registry.cpp). The CUDA instantiation lives in its <algo>.cu.
+template <template <class> class Frame, class... Args>
+std::unique_ptr<Integrator> make_on_host(const RenderContext& ctx, Args&&... args) {
+  if (ctx.options.render.backend == Backend::cpu_bvh) return std::make_unique<Frame<HostBvhBackend>>(ctx, std::forward<Args>(args)...);
+  return std::make_unique<Frame<CpuBackend>>(ctx, std::forward<Args>(args)...);
+}
 
 }  // namespace rl

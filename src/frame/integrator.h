@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "image/image.h"
@@ -71,15 +72,30 @@ class Integrator {
   virtual bool needs_previous_scene() const { return false; }
 };
 
+// One row of the registry (src/integrators/registry.cpp): an algorithm, the option groups it
+// reads and how to make it on each backend. A new integrator is one folder and a row.
 struct IntegratorInfo {
   const char* name;
   const char* description;
-  std::unique_ptr<Integrator> (*make)(const RenderContext&);
+  // The option groups it reads besides film.*, render.* and output.*, which every integrator reads
+  // (e.g. "path pt di"): a key of another group set explicitly is an error (check_option_groups).
+  const char* reads;
+  // Refuses options or scenes it cannot render, with an OptionError; on every backend. May be null.
+  void (*check)(const RenderContext&);
+  std::unique_ptr<Integrator> (*make)(const RenderContext&);       // render.backend = cpu or cpu-bvh
+  std::unique_ptr<Integrator> (*make_cuda)(const RenderContext&);  // render.backend = cuda; null: none in this build
+  bool reads_group(std::string_view group) const;
 };
 
 const std::vector<IntegratorInfo>& integrator_registry();
 // Both throw OptionError for an unknown name, listing the known ones.
 const IntegratorInfo& find_integrator(const std::string& name);
+// The integrator's check, then its maker for o.render.backend; a CUDA backend that fails (no device,
+// too little memory) is an OptionError naming render.backend.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
+// Throws OptionError for a key set explicitly (Options::explicit_keys) that o.integrator does not
+// read, naming the integrator and the groups it reads: a typo'd or misplaced sweep axis would
+// otherwise change nothing, silently.
+void check_option_groups(const Options& o);
 
 }  // namespace rl

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "frame/integrator.h"
 
 namespace rl {
 
@@ -20,6 +23,7 @@ void set_option(Options& o, std::string_view key, std::string_view value) {
                           "' (one setting for every integrator)");
     throw OptionError("unknown option '" + std::string(key) + "' (see `restir options`)");
   }
+  if (std::find(o.explicit_keys.begin(), o.explicit_keys.end(), key) == o.explicit_keys.end()) o.explicit_keys.emplace_back(key);
 }
 
 void set_option_assignment(Options& o, std::string_view a) {
@@ -126,6 +130,7 @@ void validate_options(const Options& o) {
   if (o.render.backend != Backend::cpu && o.integrator == "ssr")
     throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
                                   enum_name(o.render.backend)));
+  check_option_groups(o);
 }
 
 }  // namespace rl

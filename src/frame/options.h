@@ -185,6 +185,10 @@ struct Options {
   PtOptions pt;
   SsrOptions ssr;
   OutputOptions output;
+  // The keys set explicitly (set_option: the CLI, --config, a study's base and axes, the viewer's
+  // panel), each once; not an option itself. Values a scene file gives are not explicit.
+  // check_option_groups refuses one that the chosen integrator does not read.
+  std::vector<std::string> explicit_keys;
 };
 
 // The reuse keys of one integrator ("di", "gi", "pt"); the key text lives for the visitor call.
@@ -283,7 +287,8 @@ std::vector<std::pair<std::string, std::string>> option_values(const Options& o)
 // Flat JSON object of every option (the config echo written beside each output).
 std::string options_to_json(const Options& o, int indent = 2);
 std::string options_help();
-// Checks relations between fields that ranges cannot express (pixel count, etc.).
+// Checks relations between fields that ranges cannot express (pixel count, etc.), and that every
+// key set explicitly is one the integrator reads (check_option_groups, frame/integrator.h).
 void validate_options(const Options& o);
 
 }  // namespace rl

@@ -19,6 +19,13 @@
 namespace rl {
 
 void apply_scene_hints(Options& o, const SceneHints& h) {
+  // What the scene asks for is not set explicitly: a scene written for pt (its max depth) may be
+  // rendered by restir-di, which reads no path.* option. Restored on every way out.
+  struct KeepExplicit {
+    Options& o;
+    std::vector<std::string> keys;
+    ~KeepExplicit() { o.explicit_keys = std::move(keys); }
+  } keep{o, o.explicit_keys};
   // A value the options refuse is reported where the scene file gave it (h.where: "file:line: ...").
   auto set = [&](const char* key, const std::string& value) {
     try {
@@ -133,6 +140,7 @@ Options reference_options(const Options& defaults, const Options& o) {
   r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
   r.render.camera_path.clear();
   r.output = OutputOptions{};
+  r.explicit_keys.clear();  // the reference is a configuration of its own: `o`'s keys were checked against o's integrator
   return r;
 }
 

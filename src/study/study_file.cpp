@@ -67,12 +67,12 @@ void check_option(const std::string& key, const std::string& value, const std::s
   }
 }
 
-std::vector<std::string> axis_values(const json& a, const std::string& key, const std::string& file) {
-  std::vector<std::string> vals;
+std::vector<std::optional<std::string>> axis_values(const json& a, const std::string& key, const std::string& file) {
+  std::vector<std::optional<std::string>> vals;
   if (a.contains("values")) {
     if (a.contains("range")) fail(file, fmt::format("axis '{}': give \"values\" or \"range\", not both", key));
     if (!a["values"].is_array() || a["values"].empty()) fail(file, fmt::format("axis '{}': \"values\" must be a non-empty list", key));
-    for (const auto& v : a["values"]) vals.push_back(value_text(v, file, key));
+    for (const auto& v : a["values"]) vals.push_back(v.is_null() ? std::nullopt : std::optional<std::string>(value_text(v, file, key)));
   } else if (a.contains("range")) {
     const json& r = a["range"];
     check_keys(r, {"from", "to", "step"}, file, "range of axis '" + key + "'");
@@ -91,7 +91,8 @@ std::vector<std::string> axis_values(const json& a, const std::string& key, cons
   } else {
     fail(file, fmt::format("axis '{}': needs \"values\" or \"range\"", key));
   }
-  for (const auto& v : vals) check_option(key, v, file);
+  for (const auto& v : vals)
+    if (v) check_option(key, *v, file);
   return vals;
 }
 
@@ -339,7 +340,8 @@ std::vector<Configuration> expand(const Study& s) {
   if (s.zip) {
     for (size_t i = 0; i < s.axes.front().values.size(); ++i) {
       Configuration c;
-      for (const auto& a : s.axes) c.values.emplace_back(a.key, a.values[i]);
+      for (const auto& a : s.axes)
+        if (a.values[i]) c.values.emplace_back(a.key, *a.values[i]);
       out.push_back(std::move(c));
     }
     return out;
@@ -347,7 +349,8 @@ std::vector<Configuration> expand(const Study& s) {
   std::vector<size_t> idx(s.axes.size(), 0);
   for (;;) {
     Configuration c;
-    for (size_t a = 0; a < s.axes.size(); ++a) c.values.emplace_back(s.axes[a].key, s.axes[a].values[idx[a]]);
+    for (size_t a = 0; a < s.axes.size(); ++a)
+      if (s.axes[a].values[idx[a]]) c.values.emplace_back(s.axes[a].key, *s.axes[a].values[idx[a]]);
     out.push_back(std::move(c));
     size_t a = s.axes.size();
     while (a > 0) {

@@ -3,6 +3,7 @@
 // typo fails before any rendering; expansion turns the axes into the list of configurations.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,7 +20,9 @@ struct StudyError : std::runtime_error {
 // One sweep axis: an option key and its values (as text, parsed by set_option).
 struct Axis {
   std::string key;
-  std::vector<std::string> values;
+  // A value per configuration; null (JSON null in "values") leaves the key unset there: the key of
+  // a zipped axis that only some of its integrators read (check_option_groups).
+  std::vector<std::optional<std::string>> values;
 };
 
 struct PlotSpec {

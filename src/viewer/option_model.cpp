@@ -73,6 +73,10 @@ Effect option_effect(std::string_view key) {
 Effect apply_option(Options& o, const std::string& key, const std::string& value) {
   Options next = o;
   set_option(next, key, value);
+  // The panel shows every group's options as widgets (no key to mistype) and switches integrators
+  // with the others' settings kept: its edits are not checked against the integrator's groups, and
+  // the command line's keys were checked when the viewer started.
+  next.explicit_keys.clear();
   validate_options(next);
   find_integrator(next.integrator);
   o = std::move(next);

@@ -10,13 +10,10 @@
 #include "core/parallel.h"
 #include "core/sampling.h"
 #include "core/widest.h"
-#include "frame/cuda_maker.h"
 #include "frame/direction_sampling.h"
 #include "frame/pixel_sampler.h"
-#include "integrators/path/path_tracer_cuda.h"
 #include "integrators/path/path_frame.h"
 #include "frame/bvh_backend.h"
-#include "frame/cpu_backend.h"
 #include "scene/bsdf.h"
 #include "scene/texture.h"
 
@@ -64,15 +61,11 @@ RL_WIDEST void start_path_range(const CameraSampling& cs, const PerspectiveCamer
   for (size_t i = a; i < b; ++i) start_path(cs, camera, frame, width, spp, begin, paths, live, i);
 }
 
-std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) {
+void check_path_tracer(const RenderContext& ctx) {
   if (ctx.options.render.debug_view != DebugView::none)
     throw OptionError("render.debug_view: the path tracer has no debug views (they belong to the ReSTIR integrators)");
-  switch (ctx.options.render.backend) {
-    case Backend::cuda: return make_on_cuda(&make_cuda_path_tracer, ctx);
-    case Backend::cpu_bvh: return std::make_unique<PathFrame<HostBvhBackend>>(ctx);
-    case Backend::cpu: break;
-  }
-  return std::make_unique<PathFrame<CpuBackend>>(ctx);
 }
+
+std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) { return make_on_host<PathFrame>(ctx); }
 
 }  // namespace rl

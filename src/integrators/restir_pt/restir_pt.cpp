@@ -1,10 +1,6 @@
-// ReSTIR PT's registry entry (registry.cpp): the option checks, and its frame (restir_pt_frame.h)
-// on the CPU backend and on the CUDA backend's host twin (render.backend = cpu-bvh); restir_pt.cu
-// instantiates it for CUDA.
+// ReSTIR PT's registry entry (registry.cpp): its option checks, and its frame (restir_pt_frame.h)
+// on the host backends; restir_pt.cu instantiates it for CUDA.
 #include "frame/bvh_backend.h"
-#include "frame/cpu_backend.h"
-#include "frame/cuda_maker.h"
-#include "frame/restir_cuda.h"
 #include "integrators/restir_pt/restir_pt_frame.h"
 
 namespace rl {
@@ -15,7 +11,7 @@ std::unique_ptr<Integrator> make_direct_light(const RenderContext& ctx) {
   return make_integrator("restir-di", ctx);
 }
 
-std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
+void check_restir_pt(const RenderContext& ctx) {
   // Temporal reuse in an animated scene (issue 11). Unbiased (pt.history_scene = previous) only by
   // random replay between the frames (see PtBridge): a reconnected path's vertex x_k and its cached
   // suffix belong to the frame that traced them and cannot be re-evaluated in another frame's
@@ -28,12 +24,8 @@ std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) {
     throw OptionError("restir-pt: unbiased temporal reuse in an animated scene needs pt.shift=random-replay (a reconnected "
                       "path keeps the previous frame's vertices and cached radiance); set pt.shift=random-replay, or "
                       "pt.history_scene=current (biased), or pt.temporal=false");
-  switch (o.render.backend) {
-    case Backend::cuda: return make_on_cuda(&make_cuda_restir_pt, ctx);
-    case Backend::cpu_bvh: return std::make_unique<RestirPtFrame<HostBvhBackend>>(ctx, make_direct_light(ctx));
-    case Backend::cpu: break;
-  }
-  return std::make_unique<RestirPtFrame<CpuBackend>>(ctx, make_direct_light(ctx));
 }
+
+std::unique_ptr<Integrator> make_restir_pt(const RenderContext& ctx) { return make_on_host<RestirPtFrame>(ctx, make_direct_light(ctx)); }
 
 }  // namespace rl

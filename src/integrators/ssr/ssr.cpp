@@ -301,10 +301,11 @@ class Ssr final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_ssr(const RenderContext& ctx) {
+void check_ssr(const RenderContext& ctx) {
   if (ctx.options.render.debug_view != DebugView::none)
     throw OptionError("render.debug_view: ssr has no debug views (they belong to the ReSTIR integrators)");
-  return std::make_unique<Ssr>(ctx);
 }
+
+std::unique_ptr<Integrator> make_ssr(const RenderContext& ctx) { return std::make_unique<Ssr>(ctx); }
 
 }  // namespace rl
