@@ -1,0 +1,132 @@
+// Random replay (GRIS, Lin et al. 2022, §6.1): the offset path re-traces the base path's random
+// numbers from the other pixel's primary hit, vertex by vertex (walk.h's per-vertex streams). The
+// map is the identity in primary sample space, so |∂ȳ/∂x̄| = p(x̄) / p(ȳ), each density the whole
+// path's in its own measure (Russian roulette's survival probabilities included). The hybrid shift
+// (shift_hybrid.h) replays its prefix with the same two functions.
+#pragma once
+#include "integrators/restir_pt/walk.h"
+
+namespace rl {
+
+namespace pt_detail {
+
+// The offset path so far: its vertex y_d, the product of its f_s|cos| before y_d, and the density
+// of its replayed directions.
+struct ShiftPrefix {
+  Vertex v;
+  Rgb beta{1};
+  float pdf = 1;
+};
+
+// Replays the base path's directions at y_1 .. y_{last-1} with its random numbers, from pre.v = y_1
+// to pre.v = y_last. `check`: the hybrid shift's invertibility test (GRIS §7.2, eqs. 19-20): the
+// offset path must get the same reconnection index from its own walk as the base path, or the
+// inverse shift (and with it the MIS weights' partition of unity) differs, so no replayed vertex
+// pair before x_k may be reconnectable.
+template <class Tracer>
+RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, int last,
+                             bool check, ShiftPrefix& pre) {
+  for (int d = 1; d < last; ++d) {
+    const VertexRandoms u = vertex_randoms(base.seed, d);
+    const Step st = take_step(world, tracer, ps, pre.v, u);
+    if (!st.ok || !st.hit) return false;
+    const Vertex next = vertex_from_hit(world, st.si, -st.dir);
+    if (check && reconnectable(ps, pre.v, next, st.distance)) return false;
+    pre.beta *= st.fcos;
+    // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette()).
+    const float q = roulette(ps, d, next, u);
+    if (!(q > 0)) return false;
+    pre.pdf *= st.pdf * q;
+    pre.v = next;
+  }
+  return true;
+}
+
+// The offset path's last segment, drawn by one of the two strategies.
+struct ReplayedTail {
+  Rgb f;       // the path's f
+  float p;     // its density
+  float mis;   // m_t of its strategy
+};
+
+// The last vertex by next-event estimation from y_{n-1} = pre.v, with the base path's numbers u.
+template <class Tracer>
+RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const VertexRandoms& u, bool check,
+                          const ShiftPrefix& pre, ReplayedTail& tail) {
+  const Vertex& v = pre.v;
+  EmitterPoint ep;
+  SampledEmitter sampled;
+  if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
+  const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
+  if (check && emitter_reconnectable(ps, v, is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
+  sampled.pdf = ep.pdf;
+  const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
+  if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
+  tail.f = pre.beta * t.fcos * t.emission * t.geometry;
+  tail.p = pre.pdf * t.light_pdf;
+  tail.mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+  return true;
+}
+
+// The last vertex by direction sampling from y_{n-1} = pre.v: an emitter or the environment hit.
+template <class Tracer>
+RESTIR_HD bool replay_bsdf(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const VertexRandoms& u, bool check,
+                           const ShiftPrefix& pre, ReplayedTail& tail) {
+  const Vertex& v = pre.v;
+  const Step st = take_step(world, tracer, ps, v, u);
+  if (!st.ok) return false;
+  if (check && emitter_reconnectable(ps, v, !st.hit, st.distance)) return false;
+  float light_pdf, measure;
+  Rgb le;
+  if (!st.hit) {
+    if (!world.lights.has_environment()) return false;
+    const LightsView::EnvironmentValue env = world.lights.environment_value(st.dir);
+    le = env.radiance;
+    light_pdf = env.pdf;
+    measure = 1;
+  } else {
+    const uint32_t e = emitter_of(world, st.si);
+    if (e == kNoEmitter) return false;
+    le = world.lights.emitted(e, st.si.ng, -st.dir);
+    measure = std::fabs(dot(st.si.ng, st.dir)) / (st.distance * st.distance);
+    light_pdf = world.lights.point_pdf(e, st.si.p);
+  }
+  tail.f = pre.beta * st.fcos * le * measure;
+  tail.p = pre.pdf * st.pdf * measure;
+  tail.mis = strategy_weight(ps, false, v.delta, light_pdf, st.delta ? 0.0f : st.pdf * measure);
+  return true;
+}
+
+// A path without reconnection vertex (k = 0): its last vertex by the base path's strategy, with its
+// random numbers, from y_{n-1} = pre.v (vertex `last` = n - 1); out (a copy of base) takes the
+// offset path's contribution and density, jacobian = p(x̄) / p(ȳ).
+template <class Tracer>
+RESTIR_HD bool replay_last_vertex(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, int last,
+                                  bool check, const ShiftPrefix& pre, PathSample& out, float& jacobian) {
+  const VertexRandoms u = vertex_randoms(base.seed, last);
+  ReplayedTail tail;
+  if (!(base.nee ? replay_nee(world, tracer, ps, u, check, pre, tail) : replay_bsdf(world, tracer, ps, u, check, pre, tail)))
+    return false;
+  out.contribution = tail.f * tail.mis;
+  out.replay_pdf = tail.p;
+  jacobian = tail.p > 0 ? base.replay_pdf / tail.p : 0.0f;
+  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+}
+
+}  // namespace pt_detail
+
+// The random-replay shift of `base` to the pixel whose primary surface is y1 (a valid surface).
+// Its walks choose no reconnection vertex (choose_reconnection), so every sample replays whole.
+template <class Tracer>
+RESTIR_HD bool shift_random_replay(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
+                                   const GSurface& y1, PathSample& out, float& jacobian) {
+  using namespace pt_detail;
+  if (base.rc != 0) return false;
+  ShiftPrefix pre{vertex_from_surface(y1)};
+  const int last = base.length - 1;
+  if (!replay_prefix(world, tracer, ps, base, last, false, pre)) return false;
+  out = base;
+  return replay_last_vertex(world, tracer, ps, base, last, false, pre, out, jacobian);
+}
+
+}  // namespace rl

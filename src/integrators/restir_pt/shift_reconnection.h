@@ -1,0 +1,108 @@
+// Reconnection (ReSTIR GI, Ouyang et al. 2021; GRIS, Lin et al. 2022, §6.2): the offset path keeps
+// the base path's reconnection vertex x_k and everything after it, and connects its own y_{k-1}
+// to x_k. The Jacobian of the map (solid angle at x_{k-1} -> at y_{k-1}, x_k fixed; ReSTIR GI
+// eq. 11) is |cos θ_k^y| / |cos θ_k^x| · |x_k − x_{k−1}|² / |x_k − y_{k−1}|², and 1 when x_k is the
+// emitter vertex (area measure); a replayed prefix before y_{k-1} (the hybrid shift) adds its pdf
+// ratio. shift_reconnection itself reconnects at k = 2, the primary hit's successor.
+#pragma once
+#include "integrators/restir_pt/shift_random_replay.h"
+#include "restir/shift.h"
+
+namespace rl {
+
+namespace pt_detail {
+
+// The offset path's value at its reconnection: f up to the emitter and m_t of the base path's
+// strategy there, and the reconnection's Jacobian.
+struct Reconnected {
+  Rgb f;
+  float mis;
+  float jacobian = 1;
+};
+
+// x_k is the emitter vertex x_n: y_{n-1} = pre.v connects to the base path's light point.
+template <class Tracer>
+RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
+                                 const ShiftPrefix& pre, Reconnected& r) {
+  const Vertex& v = pre.v;
+  const bool is_dir = world.lights.kind(base.rc_emitter) == LightKind::environment;
+  // x_n's direction is the base path's, so the environment's radiance (Le G, G = 1) and density
+  // there are the base path's too -- the same bits the lookup would give -- as long as the
+  // lights are those that made the sample (always, unless the lights are animated). The lookup's
+  // cache misses in the texel table were ~5% of a ReSTIR PT frame on the env-lit teapots (perf).
+  const SampledEmitter kept{base.rc_tail_light_pdf, base.rc_suffix};
+  const bool reuse = is_dir && world.lights.fixed;
+  const Terminal t = eval_terminal(world, ps, v, base.rc_emitter, base.rc_position, base.rc_normal, reuse ? &kept : nullptr);
+  if (hybrid && !is_dir && length(base.rc_position - v.p) < ps.pt.distance_threshold) return false;
+  if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
+  r.f = pre.beta * t.fcos * t.emission * t.geometry;
+  r.mis = strategy_weight(ps, base.nee, v.delta, t.light_pdf, t.bsdf_pdf);
+  return true;
+}
+
+// x_k is a surface vertex (k < n): y_{k-1} = pre.v connects to it, x_k's BSDF rebuilt from what the
+// sample keeps, and the suffix after it taken as it is.
+template <class Tracer>
+RESTIR_HD bool reconnect_surface(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
+                                 const ShiftPrefix& pre, Reconnected& r) {
+  const Vertex& v = pre.v;
+  const Vec3 d = base.rc_position - v.p;
+  const float d2 = length_squared(d);
+  if (!(d2 > 0)) return false;
+  if (hybrid && std::sqrt(d2) < ps.pt.distance_threshold) return false;
+  const Vec3 wi = d / std::sqrt(d2);
+  if (tracer.occluded(spawn_ray_to(v.p, v.ng, base.rc_position, base.rc_normal, world.ray_epsilon))) return false;
+  const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(wi);
+  const Rgb fcos_v = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
+  const Frame k_frame = Frame::from_normal(base.rc_shading_normal);
+  const Bsdf k_bsdf = make_bsdf(world.scene.materials[base.rc_material], base.rc_reflectance);
+  const Vec3 k_in = k_frame.to_local(-wi), k_out = k_frame.to_local(base.rc_out);
+  const Rgb fcos_k = bsdf_eval(k_bsdf, k_in, k_out) * std::fabs(k_out.z);
+  r.f = pre.beta * fcos_v * fcos_k * base.rc_suffix;
+  if (base.rc == base.length - 1) {  // x_k is the vertex before the emitter: its BSDF density enters m_t
+    const float bsdf_pdf = direction_pdf(k_bsdf, ps.path.bsdf_sampling, k_in, k_out) * base.rc_tail_measure;
+    r.mis = strategy_weight(ps, base.nee, bsdf_is_delta(k_bsdf), base.rc_tail_light_pdf, bsdf_pdf);
+  } else {
+    r.mis = base.rc_mis;
+  }
+  // Solid angle at x_{k-1} -> at y_{k-1} with x_k fixed (ReSTIR GI eq. 11).
+  r.jacobian = restir::reconnection_jacobian(base.rc_previous, v.p, base.rc_position, base.rc_normal);
+  return r.jacobian > 0;
+}
+
+// Reconnects y_{k-1} = pre.v to the base path's x_k; out (a copy of base) takes the offset path's
+// contribution, replayed density and x_{k-1}; jacobian = p(replayed x̄) / p(replayed ȳ) times the
+// reconnection's. `hybrid`: y_{k-1} and the reconnected segment must pass the hybrid shift's
+// criterion as x_{k-1}'s did (GRIS §7.2), or the shift is not invertible.
+template <class Tracer>
+RESTIR_HD bool reconnect(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
+                         const ShiftPrefix& pre, PathSample& out, float& jacobian) {
+  if (pre.v.delta || (hybrid && !rough(pre.v, ps.pt.roughness_threshold))) return false;
+  Reconnected r;
+  const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, hybrid, pre, r)
+                                         : reconnect_surface(world, tracer, ps, base, hybrid, pre, r);
+  if (!ok) return false;
+  out.contribution = r.f * r.mis;
+  out.replay_pdf = pre.pdf;
+  out.rc_previous = pre.v.p;
+  jacobian = base.replay_pdf / pre.pdf * r.jacobian;
+  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+}
+
+}  // namespace pt_detail
+
+// The reconnection shift of `base` to the pixel whose primary surface is y1 (a valid surface): y_1
+// connects to x_2. A path from a delta primary vertex has no reconnection vertex (k = 0) and is not
+// shiftable (its inverse would need to reconnect from that delta vertex), so the shift fails as
+// its inverse does.
+template <class Tracer>
+RESTIR_HD bool shift_reconnection(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
+                                  const GSurface& y1, PathSample& out, float& jacobian) {
+  using namespace pt_detail;
+  if (base.rc == 0) return false;
+  const ShiftPrefix pre{vertex_from_surface(y1)};  // k = 2: nothing to replay before y_1
+  out = base;
+  return reconnect(world, tracer, ps, base, false, pre, out, jacobian);
+}
+
+}  // namespace rl

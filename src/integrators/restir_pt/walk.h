@@ -1,0 +1,425 @@
+// ReSTIR PT's walks (pt_path.h documents the paths): the per-vertex random streams, one
+// direction-sampling step, a walk from the primary hit with every path it offers (NEE connections
+// and emitter hits, each MIS-weighted by its strategy), the reconnection vertex a walk chooses, and
+// the initial resampling over them. RESTIR_HD over a PathWorld and a Tracer (frame_world.h): every
+// backend runs this one implementation of every path density and MIS weight; the shifts
+// (shift_*.h) replay and reconnect the same pieces.
+#pragma once
+#include "frame/direction_sampling.h"
+#include "integrators/path/path_pixel.h"
+#include "integrators/restir_pt/pt_path.h"
+#include "frame/frame_world.h"
+
+namespace rl {
+
+namespace pt_detail {
+
+constexpr int kMaxVertices = 66;
+
+// Per-vertex random streams: vertex d of a walk always uses the same numbers, whatever happened
+// before, so random replay regenerates the base path's decisions vertex by vertex.
+struct VertexRandoms {
+  float nee_select;
+  Vec2 nee_point;
+  float lobe;
+  Vec2 direction;
+  float roulette;
+};
+RESTIR_HD inline VertexRandoms vertex_randoms(uint64_t seed, int vertex) {
+  Pcg32 r(mix64(seed ^ (0x9e3779b97f4a7c15ULL * uint64_t(vertex + 1))), uint64_t(vertex) * 2 + 1);
+  VertexRandoms v;
+  v.nee_select = r.next_float();
+  v.nee_point = r.next_2d();
+  v.lobe = r.next_float();
+  v.direction = r.next_2d();
+  v.roulette = r.next_float();
+  return v;
+}
+
+struct Vertex {
+  Vec3 p, ng;
+  Frame frame;
+  Vec3 wo;  // world direction toward the previous vertex
+  Bsdf bsdf;
+  bool delta = false;
+  int material = -1;  // the hit's material (-1 at the primary vertex, which comes from the G-buffer)
+};
+
+RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
+  return {s.p, s.ng, s.frame(), s.wo, s.bsdf, bsdf_is_delta(s.bsdf)};
+}
+
+RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInteraction& si, Vec3 wo) {
+  const MaterialParams& m = world.scene.materials[si.material];
+  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.material};
+  v.delta = bsdf_is_delta(v.bsdf);
+  return v;
+}
+
+RESTIR_HD inline uint32_t emitter_of(const PathWorld& world, const SurfaceInteraction& si) {
+  return world.lights.emitter_at(si);
+}
+
+RESTIR_HD inline bool rough(const Vertex& v, float threshold) { return !v.delta && bsdf_roughness(v.bsdf) >= threshold; }
+
+// The hybrid shift's reconnection criterion (GRIS §7.2; choose_reconnection): vertices a and b,
+// `distance` apart, are a reconnectable pair -- both rough, far enough apart.
+RESTIR_HD inline bool reconnectable(const PathSettings& ps, const Vertex& a, const Vertex& b, float distance) {
+  return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
+}
+// The same for an emitter vertex after v (emitters are diffuse: always rough; the environment is
+// infinitely far).
+RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, float distance) {
+  return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
+}
+
+// The last segment of a path: from vertex v to an emitter point (position = direction for the
+// environment). Everything the contribution and the strategies' densities need.
+struct Terminal {
+  Rgb fcos{0};          // f_s(v) |cos| toward the emitter
+  Rgb emission{0};      // Le (point lights: intensity I)
+  float geometry = 0;   // area: |cos_l| / d²; point: 1 / d²; environment: 1
+  float light_pdf = 0;  // density of Lights::sample_point at the emitter point (its own measure)
+  float bsdf_pdf = 0;   // density of the direction sampling at v, in the emitter's measure
+  float measure = 0;    // solid angle at v -> the emitter's measure (area: |cos_l| / d²; env: 1; point: 0)
+  Vec3 wi;              // direction from v to the emitter
+  Ray shadow;
+};
+
+// `sampled`: the emitter point was just drawn by sample_point, which gave its density (pdf) and,
+// for the environment, its radiance: they are used instead of looking them up again (the same
+// values bit for bit). The environment's texel lookups were a fifth of a ReSTIR PT frame.
+struct SampledEmitter {
+  float pdf = 0;
+  Rgb env_radiance{0};
+};
+
+RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettings& ps, const Vertex& v, uint32_t emitter,
+                                        Vec3 pos, Vec3 normal, const SampledEmitter* sampled = nullptr) {
+  Terminal t;
+  const float eps = world.ray_epsilon;
+  float to_measure = 1;
+  bool have_pdf = sampled != nullptr;
+  switch (world.lights.kind(emitter)) {
+    case LightKind::environment:
+      t.wi = pos;
+      if (sampled) {
+        t.emission = sampled->env_radiance;
+      } else {
+        const LightsView::EnvironmentValue env = world.lights.environment_value(t.wi);
+        t.emission = env.radiance;
+        t.light_pdf = env.pdf;
+        have_pdf = true;
+      }
+      t.geometry = 1;
+      t.shadow = spawn_ray(v.p, v.ng, t.wi, eps);
+      break;
+    case LightKind::point: {
+      const Vec3 d = pos - v.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return t;
+      t.wi = d / std::sqrt(d2);
+      t.emission = world.lights.point_intensity(emitter);
+      t.geometry = 1 / d2;
+      to_measure = 0;  // BSDF sampling never reaches a point light
+      t.shadow = spawn_ray_to(v.p, v.ng, pos, Vec3(0), eps);
+      break;
+    }
+    default: {
+      const Vec3 d = pos - v.p;
+      const float d2 = length_squared(d);
+      if (!(d2 > 0)) return t;
+      t.wi = d / std::sqrt(d2);
+      t.emission = world.lights.emitted(emitter, normal, -t.wi);
+      t.geometry = std::fabs(dot(normal, t.wi)) / d2;
+      to_measure = t.geometry;
+      t.shadow = spawn_ray_to(v.p, v.ng, pos, normal, eps);
+      break;
+    }
+  }
+  const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(t.wi);
+  t.fcos = bsdf_eval(v.bsdf, wo_l, wi_l) * std::fabs(wi_l.z);
+  if (sampled) t.light_pdf = sampled->pdf;
+  else if (!have_pdf) t.light_pdf = world.lights.point_pdf(emitter, pos);
+  t.measure = to_measure;
+  t.bsdf_pdf = direction_pdf(v.bsdf, ps.path.bsdf_sampling, wo_l, wi_l) * to_measure;
+  return t;
+}
+
+// Balance-heuristic weight of the strategy that produced the last vertex (Veach 1997, eq. 9.10);
+// a strategy that is off (no NEE, delta vertex) leaves the other with weight 1.
+RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, bool delta, float light_pdf, float bsdf_pdf) {
+  const bool nee_on = ps.path.nee && !delta;
+  if (!nee_on) return nee_tag ? 0.0f : 1.0f;
+  const float den = light_pdf + bsdf_pdf;
+  if (!(den > 0)) return 0;
+  return (nee_tag ? light_pdf : bsdf_pdf) / den;
+}
+
+// One direction-sampling step from v with the vertex's random numbers: sample, trace, and express
+// the segment by the vertex positions, so that a path's value depends on its vertices only (a shift
+// that reconnects to a vertex recomputes exactly the same terms as the walk that found it).
+struct Step {
+  bool ok = false;
+  bool hit = false;  // false: escaped (direction only)
+  bool delta = false;
+  Vec3 dir;       // unit direction of the segment
+  Rgb fcos{0};    // f_s(v) |cos| for dir
+  float pdf = 0;  // density of sample_direction at v for dir (solid angle)
+  float distance = 0;
+  SurfaceInteraction si;
+};
+
+template <class Tracer>
+RESTIR_HD Step take_step(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const Vertex& v,
+                         const VertexRandoms& u) {
+  Step st;
+  BsdfSample bs;
+  const Vec3 wo_l = v.frame.to_local(v.wo);
+  if (!sample_direction(v.bsdf, ps.path.bsdf_sampling, wo_l, u.lobe, u.direction, bs) || !(bs.pdf > 0) || is_black(bs.f)) return st;
+  const Vec3 wi = v.frame.to_world(bs.wi);
+  st.delta = bs.is_delta;
+  st.dir = wi;
+  st.fcos = bs.f * std::fabs(bs.wi.z);
+  st.pdf = bs.pdf;
+  Hit hit;
+  const Ray ray = spawn_ray(v.p, v.ng, wi, world.ray_epsilon);
+  st.ok = true;
+  if (!tracer.intersect(ray, hit)) return st;
+  st.hit = true;
+  st.si = surface_interaction(world.scene, ray, hit);
+  const Vec3 d = st.si.p - v.p;
+  st.distance = length(d);
+  if (!(st.distance > 0)) return Step{};
+  if (!bs.is_delta) {
+    st.dir = d / st.distance;
+    const Vec3 dl = v.frame.to_local(st.dir);
+    st.fcos = bsdf_eval(v.bsdf, wo_l, dl) * std::fabs(dl.z);
+    st.pdf = direction_pdf(v.bsdf, ps.path.bsdf_sampling, wo_l, dl);
+    if (!(st.pdf > 0) || is_black(st.fcos)) return Step{};
+  }
+  return st;
+}
+
+// The walk's bookkeeping, enough to describe any of its paths as a PathSample. Left
+// uninitialized (anonymous unions, an empty constructor): walk_from writes every entry before
+// anything reads it (entries 1..d at depth d). Zeroing its 66 vertices per pixel was 2.4% of a
+// ReSTIR PT frame on the teapots (perf).
+struct Walk {
+  union { Vertex v[kMaxVertices]; };   // v[1..d]
+  union { Rgb fcos[kMaxVertices]; };   // f_s|cos| of the continuation at v[i]
+  union { float pdf[kMaxVertices]; };  // density of the continuation direction at v[i]
+  union { Vec3 out[kMaxVertices]; };   // continuation direction at v[i]
+  RESTIR_HD Walk() {}
+};
+
+// First reconnectable vertex k of the path ending in an emitter at vertex n (hybrid), 2 for
+// reconnection, 0 for replay. Reconnection needs a non-delta x_1 (a delta BSDF cannot connect to an
+// arbitrary x_2): such paths get k = 0 and no reconnection shift, in either direction.
+RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos,
+                                         bool terminal_is_direction) {
+  if (ps.pt.shift == ShiftMapping::random_replay) return 0;
+  if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta ? 0 : 2;
+  for (int k = 2; k <= n; ++k) {
+    const Vertex& prev = w.v[size_t(k - 1)];
+    if (!rough(prev, ps.pt.roughness_threshold)) continue;
+    if (k == n) {  // emitters are diffuse emitters: always reconnectable; the environment is infinitely far
+      if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.pt.distance_threshold) return k;
+      continue;
+    }
+    const Vertex& cur = w.v[size_t(k)];
+    if (rough(cur, ps.pt.roughness_threshold) && length(cur.p - prev.p) >= ps.pt.distance_threshold) return k;
+  }
+  return 0;
+}
+
+// Fills the reconnection / replay description of path (x_1..x_n) of walk w. `last_fcos` is the
+// f_s|cos| of the final segment, `tail` = Le G, `path_pdf` the full path density (own measure),
+// `mis` its strategy weight, `t` the terminal (for k = n - 1).
+RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal,
+                                    bool is_direction, Rgb last_fcos, Rgb tail, float path_pdf, float mis, const Terminal& t,
+                                    PathSample& s) {
+  s.length = n;
+  s.rc = choose_reconnection(ps, w, n, pos, is_direction);
+  const int k = s.rc;
+  if (k == 0) {
+    s.replay_pdf = path_pdf;
+    return;
+  }
+  s.rc_previous = w.v[size_t(k - 1)].p;
+  float replay = 1;
+  for (int i = 1; i <= k - 2; ++i) replay *= w.pdf[size_t(i)];
+  s.replay_pdf = replay;
+  if (k == n) {
+    s.rc_position = pos;
+    s.rc_normal = normal;
+    s.rc_emitter = emitter;
+    // Kept for the environment, whose radiance and density depend on x_n's direction alone, so
+    // that a reconnection shift need not look them up again (shift_path).
+    s.rc_suffix = tail;
+    s.rc_tail_light_pdf = t.light_pdf;
+    return;
+  }
+  const Vertex& xk = w.v[size_t(k)];
+  s.rc_position = xk.p;
+  s.rc_normal = xk.ng;
+  s.rc_material = xk.material;
+  s.rc_reflectance = xk.bsdf.reflectance;
+  s.rc_shading_normal = xk.frame.n;
+  s.rc_out = k == n - 1 ? t.wi : w.out[size_t(k)];
+  Rgb suffix = tail;
+  for (int i = k + 1; i <= n - 1; ++i) suffix *= (i == n - 1 ? last_fcos : w.fcos[size_t(i)]);
+  s.rc_suffix = suffix;
+  s.rc_mis = mis;
+  s.rc_tail_light_pdf = t.light_pdf;
+  s.rc_tail_measure = t.measure;
+}
+
+// One path of a walk as the walk offers it: x_1..x_n ending at an emitter point.
+struct OfferedPath {
+  int n;
+  bool nee_tag;
+  uint32_t emitter;
+  Vec3 pos, normal;
+  bool is_direction;
+  Rgb last_fcos, tail;  // f_s|cos| of the final segment; Le G
+  float path_pdf, mis;  // full path density (own measure, Russian roulette included); m_t
+  const Terminal* terminal;
+};
+
+// Russian roulette after the step that reached vertex `next` (deciding whether the walk goes on
+// from it). The survival probability is the next vertex's albedo, a property of that vertex alone:
+// a reconnection shift keeps x_k and everything after it, so the suffix's decisions (same random
+// numbers, same probabilities) are identical in the base and the offset path and cancel, while the
+// replayed prefix's probabilities enter its pdf and hence the Jacobian (GRIS §6.1: the map is the
+// identity in primary sample space, including the roulette numbers). A throughput-based
+// probability would change along a reconnected suffix and make the shift non-invertible.
+// Returns the survival probability (0 = terminated).
+RESTIR_HD inline float roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u) {
+  if (!ps.path.russian_roulette || d < ps.path.rr_min_depth) return 1.0f;
+  const float q = roulette_survival(next.bsdf);
+  return u.roulette < q ? q : 0.0f;
+}
+
+// One walk from the primary surface s with the random streams of walk_seed; calls
+// offer(const OfferedPath&) for every path it contains (each NEE connection and each emitter hit).
+template <class Tracer, class Offer>
+RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const GSurface& s,
+                         uint64_t walk_seed, Walk& w, const Offer& offer) {
+  const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
+  w.v[1] = vertex_from_surface(s);
+  float pdf = 1;
+  for (int d = 1; d <= max_depth; ++d) {
+    const Vertex& v = w.v[size_t(d)];
+    const VertexRandoms u = vertex_randoms(walk_seed, d);
+    // Next-event estimation: path x_1..x_d + light point.
+    if (ps.path.nee && !v.delta) {
+      EmitterPoint ep;
+      SampledEmitter sampled;
+      if (world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) {
+        const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
+        sampled.pdf = ep.pdf;
+        Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
+        if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
+          const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+          offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry,
+                            pdf * t.light_pdf, mis, &t});
+        }
+      }
+    }
+    // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
+    const Step st = take_step(world, tracer, ps, v, u);
+    if (!st.ok) break;
+    w.fcos[size_t(d)] = st.fcos;
+    w.pdf[size_t(d)] = st.pdf;
+    w.out[size_t(d)] = st.dir;
+    if (!st.hit) {
+      if (world.lights.has_environment()) {
+        const uint32_t e = world.lights.environment_emitter();
+        const LightsView::EnvironmentValue env = world.lights.environment_value(st.dir);
+        Terminal t;
+        t.wi = st.dir;
+        t.light_pdf = env.pdf;
+        t.measure = 1;
+        t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
+        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.fcos, env.radiance, pdf * st.pdf, mis, &t});
+      }
+      break;
+    }
+    const SurfaceInteraction& si = st.si;
+    const uint32_t e = emitter_of(world, si);
+    if (e != kNoEmitter) {
+      const Rgb le = world.lights.emitted(e, si.ng, -st.dir);
+      if (!is_black(le)) {
+        Terminal t;
+        t.wi = st.dir;
+        t.measure = std::fabs(dot(si.ng, st.dir)) / (st.distance * st.distance);
+        t.light_pdf = world.lights.point_pdf(e, si.p);
+        t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
+        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis, &t});
+      }
+    }
+    if (d == max_depth) break;
+    w.v[size_t(d + 1)] = vertex_from_hit(world, si, -st.dir);
+    const float q = roulette(ps, d, w.v[size_t(d + 1)], u);
+    if (!(q > 0)) break;
+    // The survival probability is part of the continuation's density: every stored pdf (the
+    // replayed prefix's included) carries it, as the shifted paths' do.
+    w.pdf[size_t(d)] *= q;
+    pdf *= w.pdf[size_t(d)];
+  }
+}
+
+// The contribution m_t f of an offered path; beta of a path is the product of the walk's f_s|cos|
+// before its last segment.
+RESTIR_HD inline Rgb offered_contribution(const Walk& w, const OfferedPath& o) {
+  Rgb beta(1);
+  for (int i = 1; i <= o.n - 2; ++i) beta *= w.fcos[size_t(i)];
+  return beta * o.last_fcos * o.tail * o.mis;
+}
+
+RESTIR_HD inline PathSample describe_offered(const PathSettings& ps, const Walk& w, const OfferedPath& o, uint64_t walk_seed) {
+  PathSample x;
+  x.seed = walk_seed;
+  x.nee = o.nee_tag;
+  x.contribution = offered_contribution(w, o);
+  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_fcos, o.tail, o.path_pdf, o.mis, *o.terminal, x);
+  return x;
+}
+
+}  // namespace pt_detail
+
+// The seed of pixel p's initial paths in a frame's chain (spp sample): the CPU's stage and the
+// device's stage alike.
+RESTIR_HD inline uint64_t initial_paths_seed(uint64_t seed, uint32_t p, uint32_t frame, uint32_t chain) {
+  return hash_combine(hash_combine(hash_combine(seed, p), frame), chain);
+}
+
+template <class Tracer>
+RESTIR_HD PathReservoir initial_path_reservoir(const PathWorld& world, const Tracer& tracer, const PathSettings& ps,
+                                                  const GSurface& s, uint64_t seed, int candidates) {
+  PathReservoir r;
+  r.confidence = float(candidates);
+  if (!s.valid || world.lights.empty()) return r;
+  Pcg32 stream_rng(mix64(seed ^ 0x5bd1e995ULL), 7);
+  pt_detail::Walk w;
+  for (int c = 0; c < candidates; ++c) {
+    const uint64_t walk_seed = hash_combine(seed, uint64_t(c));
+    pt_detail::walk_from(world, tracer, ps, s, walk_seed, w, [&](const pt_detail::OfferedPath& o) {
+      const Rgb contribution = pt_detail::offered_contribution(w, o);
+      const float target = o.n >= ps.min_length ? luminance(contribution) : 0.0f;
+      if (!(o.path_pdf > 0) || target == 0) {
+        (void)stream_rng.next_float();
+        return;
+      }
+      if (restir::stream(r, PathSample{}, target, target / o.path_pdf / float(candidates), stream_rng.next_float()))
+        r.sample = pt_detail::describe_offered(ps, w, o, walk_seed);
+    });
+  }
+  restir::finalize(r);
+  return r;
+}
+
+}  // namespace rl
