@@ -32,17 +32,13 @@ bool Mat4::inverse(Mat4& out) const {
 
 Mat4 translate(Vec3 d) {
   Mat4 r;
-  r.m[0][3] = d.x;
-  r.m[1][3] = d.y;
-  r.m[2][3] = d.z;
+  for (int i = 0; i < 3; ++i) r.m[i][3] = d[i];
   return r;
 }
 
 Mat4 scale(Vec3 s) {
   Mat4 r;
-  r.m[0][0] = s.x;
-  r.m[1][1] = s.y;
-  r.m[2][2] = s.z;
+  for (int i = 0; i < 3; ++i) r.m[i][i] = s[i];
   return r;
 }
 

@@ -62,6 +62,12 @@ inline std::optional<RenderContext> previous_context(const RenderContext& ctx, c
                        frame.previous_lights ? *frame.previous_lights : ctx.lights, ctx.options, ctx.planted};
 }
 
+// The checks of render.debug_view (the ReSTIR views, frame/reuse_pixel.h) that every integrator
+// makes: one with no debug views refuses them all, one whose samples have no path refuses
+// reconnection-depth. `why` ends the message.
+void refuse_debug_views(const RenderContext& ctx, const char* why);
+void refuse_reconnection_depth(const RenderContext& ctx, const char* why);
+
 class Integrator {
  public:
   virtual ~Integrator() = default;

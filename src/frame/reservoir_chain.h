@@ -43,6 +43,36 @@ struct SpatialStage {
   RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y); }
 };
 
+// A ReSTIR frame's initial candidates: out[p] = sample(surface, x, y, p) at every pixel.
+template <class Res, class Sampler>
+struct CandidateStage {
+  Sampler sample;
+  GBufferView g;
+  Res* out;
+  RESTIR_HD void operator()(int x, int y) const {
+    const uint32_t p = uint32_t(y * g.width + x);
+    out[p] = sample(g.at(x, y), x, y, p);
+  }
+};
+
+// A ReSTIR frame's shading: shade(surface, reservoir, p) added to the pixel's sum, or the debug
+// view's value (render.debug_view) instead.
+template <class Res, class Shader>
+struct ShadeStage {
+  Shader shade;
+  GBufferView g;
+  const Res* reservoirs;
+  DebugView view;
+  ReuseDebugView dbg;
+  Rgb* sum;
+  RESTIR_HD void operator()(int x, int y) const {
+    const uint32_t p = uint32_t(y * g.width + x);
+    const Res& r = reservoirs[p];
+    if (add_debug_view(view, r, dbg, p, sum, reconnection_depth_of(r))) return;
+    sum[p] += shade(g.at(x, y), r, p);
+  }
+};
+
 // The chains' average: a division (not a product by 1 / spp), for the rounding every backend shares.
 struct AverageStage {
   Rgb* sum;
@@ -134,5 +164,52 @@ void render_chains(std::vector<std::unique_ptr<Chain>>& chains, int spp, typenam
   Exec::for_each(pixels, chain_detail::AverageStage{sum.data, float(spp)}, "averaging the chains");
   Exec::download(out.pixels.data(), sum, pixels);
 }
+
+// A ReSTIR integrator's frame on backend B: `spp` chains (Chain derives from ReservoirChain), each
+// rendered by the algorithm's render_chain -- primary hits, its candidates, reuse, its shading --
+// and averaged. Virtual dispatch once per chain and frame, never per pixel.
+template <class B, class Chain>
+class ReservoirFrame : public Integrator {
+ public:
+  using Exec = typename B::Exec;
+  using Tracer = typename B::Tracer;
+  explicit ReservoirFrame(const RenderContext& ctx) : ctx_(ctx) {}
+
+  void render_frame(const FrameInfo& frame, Image& out) override {
+    world_.update(ctx_, frame);
+    render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) {
+      c.begin_frame(world_, ctx_, frame, s);
+      render_chain(frame, ReuseFrame{uint32_t(frame.index), ctx_.options.render.seed, uint32_t(s)}, c);
+      c.end_frame();
+    });
+  }
+
+ protected:
+  // Chain c's candidates, reuse and shading, between its primary hits and its end of frame; f:
+  // the random streams of its chain (f.chain) in this frame.
+  virtual void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) = 0;
+
+  // The initial candidates of chain c (the stage "candidates"): sample(surface, x, y, p).
+  template <class Res, class Sampler>
+  void candidates(const FrameInfo& frame, Chain& c, const Sampler& sample, const char* what) {
+    StageTimer timer(frame.stages, "candidates");
+    Exec::for_pixels(c.width, c.height, chain_detail::CandidateStage<Res, Sampler>{sample, c.view(), c.reservoirs.data}, what,
+                     frame.progress);
+  }
+  // Chain c's radiance added to the frame's sum (the stage "shading"): shade(surface, reservoir, p).
+  template <class Res, class Shader>
+  void shade(const FrameInfo& frame, Chain& c, const Shader& shader, const char* what) {
+    StageTimer timer(frame.stages, "shading");
+    const chain_detail::ShadeStage<Res, Shader> stage{shader, c.view(), c.reservoirs.data, ctx_.options.render.debug_view, c.debug(),
+                                                      sum_.data};
+    Exec::for_pixels(c.width, c.height, stage, what);
+  }
+  const FrameWorld<Tracer>& fw() const { return world_.view(); }
+
+  RenderContext ctx_;
+  typename B::World world_;
+  std::vector<std::unique_ptr<Chain>> chains_;
+  typename Exec::template Array<Rgb> sum_;
+};
 
 }  // namespace rl

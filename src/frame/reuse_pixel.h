@@ -56,6 +56,13 @@ RESTIR_HD void mark_non_finite(const restir::Reservoir<Sample>& r, Rgb& L) {
   if (r.non_finite()) L = Rgb(std::numeric_limits<float>::quiet_NaN());
 }
 
+// The reconnection vertex of a reservoir's sample, for the reconnection-depth debug view: none
+// (0) for samples without a path; ReSTIR PT's paths overload it (restir_pt_pixel.h).
+template <class Res>
+RESTIR_HD int reconnection_depth_of(const Res&) {
+  return 0;
+}
+
 // The value render.debug_view shows for pixel p; false for DebugView::none (shade normally).
 // reconnection_depth: the final sample's reconnection vertex, for integrators that have one
 // (ReSTIR PT); the others reject that view when they are made.

@@ -63,6 +63,15 @@ bool IntegratorInfo::reads_group(std::string_view group) const {
   return false;
 }
 
+void refuse_debug_views(const RenderContext& ctx, const char* why) {
+  if (ctx.options.render.debug_view != DebugView::none) throw OptionError(std::string("render.debug_view: ") + why);
+}
+
+void refuse_reconnection_depth(const RenderContext& ctx, const char* why) {
+  if (ctx.options.render.debug_view == DebugView::reconnection_depth)
+    throw OptionError(std::string("render.debug_view: reconnection-depth belongs to restir-pt") + why);
+}
+
 const IntegratorInfo& find_integrator(const std::string& name) {
   std::string known;
   for (const auto& info : integrator_registry()) {

@@ -135,6 +135,17 @@ bool embree_safe(const Ray& r) { return ray_queryable(r); }
 
 constexpr size_t kStreamChunk = 256;  // rays per Embree stream call (on the stack)
 
+// A stream query's context (coherent: camera rays, which Embree traces as packets); the batch goes
+// to the ray log first when one is set.
+RTCIntersectContext stream_context(RayLog* log, std::span<const Ray> rays, bool any_hit, bool coherent) {
+  if (log)
+    for (const Ray& r : rays) log->add(r, any_hit);
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  return ctx;
+}
+
 // Every query fills Embree's ray and reads its hit through these two.
 RTCRay to_rtc(const Ray& ray, bool safe) {
   RTCRay r;
@@ -212,11 +223,7 @@ bool Accel::occluded(const Ray& ray) const {
 }
 
 void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
-  if (log_)
-    for (const Ray& r : rays) log_->add(r, false);
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCIntersectContext ctx = stream_context(log_, rays, false, coherent);
   RTCRayHit buf[kStreamChunk];
   for (size_t begin = 0; begin < rays.size(); begin += kStreamChunk) {
     const size_t n = std::min(kStreamChunk, rays.size() - begin);
@@ -232,11 +239,7 @@ void Accel::intersect(std::span<const Ray> rays, std::span<Hit> hits, bool coher
 }
 
 void Accel::occluded(std::span<const Ray> rays, std::span<uint8_t> blocked, bool coherent) const {
-  if (log_)
-    for (const Ray& r : rays) log_->add(r, true);
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCIntersectContext ctx = stream_context(log_, rays, true, coherent);
   RTCRay buf[kStreamChunk];
   for (size_t begin = 0; begin < rays.size(); begin += kStreamChunk) {
     const size_t n = std::min(kStreamChunk, rays.size() - begin);

@@ -62,8 +62,7 @@ RL_WIDEST void start_path_range(const CameraSampling& cs, const PerspectiveCamer
 }
 
 void check_path_tracer(const RenderContext& ctx) {
-  if (ctx.options.render.debug_view != DebugView::none)
-    throw OptionError("render.debug_view: the path tracer has no debug views (they belong to the ReSTIR integrators)");
+  refuse_debug_views(ctx, "the path tracer has no debug views (they belong to the ReSTIR integrators)");
 }
 
 std::unique_ptr<Integrator> make_path_tracer(const RenderContext& ctx) { return make_on_host<PathFrame>(ctx); }

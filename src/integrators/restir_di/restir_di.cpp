@@ -5,10 +5,7 @@
 
 namespace rl {
 
-void check_restir_di(const RenderContext& ctx) {
-  if (ctx.options.render.debug_view == DebugView::reconnection_depth)
-    throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt (DI samples have no path)");
-}
+void check_restir_di(const RenderContext& ctx) { refuse_reconnection_depth(ctx, " (DI samples have no path)"); }
 
 std::unique_ptr<Integrator> make_restir_di(const RenderContext& ctx) { return make_on_host<RestirDiFrame>(ctx); }
 

@@ -32,46 +32,50 @@ struct Tiles {
   }
 };
 
+// A pixel's initial reservoir: its candidates from its tile (restir_di_pixel.h).
 template <class Tracer>
-struct CandidateStage {
+struct Sampler {
   FrameWorld<Tracer> fw;
   DiOptions di;
   ReuseFrame f;
-  GBufferView g;
   Tiles tiles;
-  DiReservoir* out;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
+  int width;
+  RESTIR_HD DiReservoir operator()(const GSurface& s, int x, int y, uint32_t p) const {
     Pcg32 rng = make_rng(p, f.frame, RngPass::light_candidates, f.seed, f.chain);
-    out[p] = di_initial_reservoir(fw.world, fw.tracer, g.at(x, y), di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng,
-                                  tiles.of(x, y, g.width, f));
+    return di_initial_reservoir(fw.world, fw.tracer, s, di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng,
+                                tiles.of(x, y, width, f));
   }
 };
 
 template <class Tracer>
-struct ShadeStage {
+struct Shader {
   FrameWorld<Tracer> fw;
-  GBufferView g;
-  const DiReservoir* reservoirs;
   bool visibility_reuse;
-  DebugView view;
-  ReuseDebugView dbg;
   ReuseFrame f;
-  Rgb* sum;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
-    if (add_debug_view(view, reservoirs[p], dbg, p, sum)) return;
-    sum[p] += di_shade(fw.world, fw.tracer, g.at(x, y), reservoirs[p], visibility_reuse, p, f.frame, f.seed, f.chain);
+  RESTIR_HD Rgb operator()(const GSurface& s, const DiReservoir& r, uint32_t p) const {
+    return di_shade(fw.world, fw.tracer, s, r, visibility_reuse, p, f.frame, f.seed, f.chain);
   }
 };
 
 }  // namespace di_frame_detail
 
 template <class B>
-class RestirDiFrame final : public Integrator {
+struct RestirDiChain : ReservoirChain<B, DiReservoir> {
+  typename B::Exec::template Array<LightTileEntry> tiles;
+  typename B::Exec::template Array<EnvTileEntry> env_tiles;
+};
+
+template <class B>
+class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
+  using Base = ReservoirFrame<B, RestirDiChain<B>>;
+  using Chain = RestirDiChain<B>;
+  using typename Base::Exec;
+  using typename Base::Tracer;
+  using Base::ctx_;
+  using Base::world_;
+
  public:
-  using Exec = typename B::Exec;
-  explicit RestirDiFrame(const RenderContext& ctx) : ctx_(ctx) {}
+  explicit RestirDiFrame(const RenderContext& ctx) : Base(ctx) {}
 
   // The previous frame's BVH when the history's target includes visibility (see DiBridge).
   bool needs_previous_scene() const override {
@@ -80,42 +84,19 @@ class RestirDiFrame final : public Integrator {
            di.neighbor_visibility;
   }
 
-  void render_frame(const FrameInfo& frame, Image& out) override {
-    world_.update(ctx_, frame);
-    render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
-  }
-
  private:
-  struct Chain : ReservoirChain<B, DiReservoir> {
-    typename Exec::template Array<LightTileEntry> tiles;
-    typename Exec::template Array<EnvTileEntry> env_tiles;
-  };
-
-  void render_chain(const FrameInfo& frame, int s, Chain& c) {
+  void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) override {
     using namespace di_frame_detail;
-    const Options& o = ctx_.options;
-    const DiOptions& di = o.di;
-    const ReuseFrame f{uint32_t(frame.index), o.render.seed, uint32_t(s)};
-    const FrameWorld<typename B::Tracer>& fw = world_.view();
-    c.begin_frame(world_, ctx_, frame, s);
+    const DiOptions& di = ctx_.options.di;
+    const FrameWorld<Tracer>& fw = this->fw();
     const Tiles tiles = light_tiles(frame, f, c);
-    {
-      StageTimer timer(frame.stages, "candidates");
-      Exec::for_pixels(c.width, c.height, CandidateStage<typename B::Tracer>{fw, di, f, c.view(), tiles, c.reservoirs.data},
-                       "ReSTIR DI candidates", frame.progress);
-    }
+    this->template candidates<DiReservoir>(frame, c, Sampler<Tracer>{fw, di, f, tiles, c.width}, "ReSTIR DI candidates");
     const bool planted_now = ctx_.planted && ctx_.planted->history_visibility_now;
     c.reuse(di.reuse, frame,
-            DiBridges<typename B::Tracer>{fw, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
-                                          di.history_scene == HistoryScene::previous, planted_now},
+            DiBridges<Tracer>{fw, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
+                              di.history_scene == HistoryScene::previous, planted_now},
             f);
-    {
-      StageTimer timer(frame.stages, "shading");
-      const ShadeStage<typename B::Tracer> stage{fw, c.view(), c.reservoirs.data, di.visibility_reuse, o.render.debug_view, c.debug(), f,
-                                                 sum_.data};
-      Exec::for_pixels(c.width, c.height, stage, "ReSTIR DI shading");
-    }
-    c.end_frame();
+    this->template shade<DiReservoir>(frame, c, Shader<Tracer>{fw, di.visibility_reuse, f}, "ReSTIR DI shading");
   }
 
   // This frame's light tiles for chain f.chain (unless di.light_tiles = 0), drawn on the host
@@ -134,11 +115,7 @@ class RestirDiFrame final : public Integrator {
     return {lights, env, tiles_.count(), tiles_.size(), tiles_.env_size()};
   }
 
-  RenderContext ctx_;
-  typename B::World world_;
   LightTiles tiles_;  // the host's copy of the current chain's tiles
-  std::vector<std::unique_ptr<Chain>> chains_;
-  typename Exec::template Array<Rgb> sum_;
 };
 
 }  // namespace rl

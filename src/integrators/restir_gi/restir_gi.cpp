@@ -5,10 +5,7 @@
 
 namespace rl {
 
-void check_restir_gi(const RenderContext& ctx) {
-  if (ctx.options.render.debug_view == DebugView::reconnection_depth)
-    throw OptionError("render.debug_view: reconnection-depth belongs to restir-pt");
-}
+void check_restir_gi(const RenderContext& ctx) { refuse_reconnection_depth(ctx, " (GI samples keep no path)"); }
 
 std::unique_ptr<Integrator> make_restir_gi(const RenderContext& ctx) { return make_on_host<RestirGiFrame>(ctx); }
 

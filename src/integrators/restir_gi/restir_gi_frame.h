@@ -25,89 +25,65 @@ namespace rl {
 
 namespace gi_frame_detail {
 
+// A pixel's initial sample, and its light that is not resampled (direct light, or a plain path
+// through a delta BSDF) into specular[p].
 template <class Tracer>
-struct CandidateStage {
+struct Sampler {
   FrameWorld<Tracer> fw;
   PathOptions path;  // the secondary path's: path.max_depth - 1 bounces
   GiTarget kind;
   ReuseFrame f;
-  GBufferView g;
-  GiReservoir* out;
   Rgb* specular;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
+  RESTIR_HD GiReservoir operator()(const GSurface& s, int, int, uint32_t p) const {
     Pcg32 rng = make_rng(p, f.frame, RngPass::path, f.seed, f.chain);
     Rgb spec(0);
-    out[p] = gi_initial(fw.world, fw.tracer, path, kind, g.at(x, y), rng, spec);
-    specular[p] = spec + gi_direct(fw.world, fw.tracer, g.at(x, y), rng);
+    const GiReservoir r = gi_initial(fw.world, fw.tracer, path, kind, s, rng, spec);
+    specular[p] = spec + gi_direct(fw.world, fw.tracer, s, rng);
+    return r;
   }
 };
 
-struct ShadeStage {
-  GBufferView g;
-  const GiReservoir* reservoirs;
+struct Shader {
   const Rgb* specular;
-  DebugView view;
-  ReuseDebugView dbg;
-  Rgb* sum;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
-    if (add_debug_view(view, reservoirs[p], dbg, p, sum)) return;
-    sum[p] += gi_shade(g.at(x, y), reservoirs[p], specular[p]);
-  }
+  RESTIR_HD Rgb operator()(const GSurface& s, const GiReservoir& r, uint32_t p) const { return gi_shade(s, r, specular[p]); }
 };
 
 }  // namespace gi_frame_detail
 
 template <class B>
-class RestirGiFrame final : public Integrator {
+struct RestirGiChain : ReservoirChain<B, GiReservoir> {
+  typename B::Exec::template Array<Rgb> specular;  // not resampled: direct light, or a plain path through a delta BSDF
+};
+
+template <class B>
+class RestirGiFrame final : public ReservoirFrame<B, RestirGiChain<B>> {
+  using Base = ReservoirFrame<B, RestirGiChain<B>>;
+  using Chain = RestirGiChain<B>;
+  using typename Base::Tracer;
+  using Base::ctx_;
+  using Base::world_;
+
  public:
-  using Exec = typename B::Exec;
-  explicit RestirGiFrame(const RenderContext& ctx) : ctx_(ctx), path_(ctx.options.path) {
+  explicit RestirGiFrame(const RenderContext& ctx) : Base(ctx), path_(ctx.options.path) {
     path_.max_depth = ctx.options.path.max_depth - 1;  // the sample point's radiance: one bounce less
   }
 
   // The previous frame's scene and BVH for temporal reuse in an animated scene (GiBridge).
   bool needs_previous_scene() const override { return scene_animated(ctx_.scene) && ctx_.options.gi.reuse.temporal; }
 
-  void render_frame(const FrameInfo& frame, Image& out) override {
-    world_.update(ctx_, frame);
-    render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
-  }
-
  private:
-  struct Chain : ReservoirChain<B, GiReservoir> {
-    typename Exec::template Array<Rgb> specular;  // not resampled: direct light, or a plain path through a delta BSDF
-  };
-
-  void render_chain(const FrameInfo& frame, int s, Chain& c) {
+  void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) override {
     using namespace gi_frame_detail;
-    using Tracer = typename B::Tracer;
     const Options& o = ctx_.options;
-    const ReuseFrame f{uint32_t(frame.index), o.render.seed, uint32_t(s)};
-    const FrameWorld<Tracer>& fw = world_.view();
-    c.begin_frame(world_, ctx_, frame, s);
+    const FrameWorld<Tracer>& fw = this->fw();
     c.specular.reserve(size_t(c.width) * size_t(c.height));
-    {
-      StageTimer timer(frame.stages, "candidates");
-      const CandidateStage<Tracer> stage{fw, path_, o.gi.target, f, c.view(), c.reservoirs.data, c.specular.data};
-      Exec::for_pixels(c.width, c.height, stage, "ReSTIR GI samples", frame.progress);
-    }
+    this->template candidates<GiReservoir>(frame, c, Sampler<Tracer>{fw, path_, o.gi.target, f, c.specular.data}, "ReSTIR GI samples");
     const bool replay = !(ctx_.planted && ctx_.planted->gi_history_cached);
     c.reuse(o.gi.reuse, frame, GiBridges<Tracer>{fw, o.gi.target, path_, replay}, f);
-    {
-      StageTimer timer(frame.stages, "shading");
-      const ShadeStage stage{c.view(), c.reservoirs.data, c.specular.data, o.render.debug_view, c.debug(), sum_.data};
-      Exec::for_pixels(c.width, c.height, stage, "ReSTIR GI shading");
-    }
-    c.end_frame();
+    this->template shade<GiReservoir>(frame, c, Shader{c.specular.data}, "ReSTIR GI shading");
   }
 
-  RenderContext ctx_;
   PathOptions path_;
-  typename B::World world_;
-  std::vector<std::unique_ptr<Chain>> chains_;
-  typename Exec::template Array<Rgb> sum_;
 };
 
 }  // namespace rl

@@ -18,50 +18,41 @@ namespace rl {
 
 namespace pt_frame_detail {
 
+// A pixel's initial reservoir: pt.candidates walks from its primary hit (walk.h).
 template <class Tracer>
-struct CandidateStage {
+struct Sampler {
   FrameWorld<Tracer> fw;
   PathSettings ps;
   int candidates;
   ReuseFrame f;
-  GBufferView g;
-  PathReservoir* out;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
-    const uint64_t path_seed = initial_paths_seed(f.seed, p, f.frame, f.chain);
-    out[p] = initial_path_reservoir(fw.world, fw.tracer, ps, g.at(x, y), path_seed, candidates);
+  RESTIR_HD PathReservoir operator()(const GSurface& s, int, int, uint32_t p) const {
+    return initial_path_reservoir(fw.world, fw.tracer, ps, s, initial_paths_seed(f.seed, p, f.frame, f.chain), candidates);
   }
 };
 
-// Emission at the primary hit (unless ReSTIR DI adds it) + f(Y) W, or a debug view.
-struct ShadeStage {
-  GBufferView g;
-  const PathReservoir* reservoirs;
+// Emission at the primary hit (unless ReSTIR DI adds it) + f(Y) W.
+struct Shader {
   bool direct_from_di;
-  DebugView view;
-  ReuseDebugView dbg;
-  Rgb* sum;
-  RESTIR_HD void operator()(int x, int y) const {
-    const uint32_t p = uint32_t(y * g.width + x);
-    const PathReservoir& r = reservoirs[p];
-    if (add_debug_view(view, r, dbg, p, sum, r.has_sample() ? r.sample.rc : 0)) return;
-    sum[p] += pt_shade(g.at(x, y), r, direct_from_di);
-  }
+  RESTIR_HD Rgb operator()(const GSurface& s, const PathReservoir& r, uint32_t) const { return pt_shade(s, r, direct_from_di); }
 };
 
 }  // namespace pt_frame_detail
 
 template <class B>
-class RestirPtFrame final : public Integrator {
- public:
-  using Exec = typename B::Exec;
-  using Tracer = typename B::Tracer;
+class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReservoir>> {
+  using Base = ReservoirFrame<B, ReservoirChain<B, PathReservoir>>;
+  using Chain = ReservoirChain<B, PathReservoir>;
+  using typename Base::Exec;
+  using typename Base::Tracer;
+  using Base::ctx_;
+  using Base::world_;
 
+ public:
   // direct: ReSTIR DI on the same backend when pt.direct = restir-di (null otherwise). It adds only
   // to a shaded image: under a debug view it is not made, so that a view of the paths' own
   // (reconnection-depth) does not reach ReSTIR DI, which refuses it.
   RestirPtFrame(const RenderContext& ctx, std::unique_ptr<Integrator> direct)
-      : ctx_(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
+      : Base(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
   }
 
@@ -72,48 +63,30 @@ class RestirPtFrame final : public Integrator {
   }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
-    world_.update(ctx_, frame);
-    render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) { render_chain(frame, s, c); });
+    Base::render_frame(frame, out);
     // pt.direct = restir-di: ReSTIR DI renders the emission seen and the direct light (same primary
     // rays), the paths only the indirect part (length >= 3).
     if (direct_) add_direct_light(*direct_, frame, out);
   }
 
  private:
-  using Chain = ReservoirChain<B, PathReservoir>;
-
-  void render_chain(const FrameInfo& frame, int s, Chain& c) {
+  void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) override {
     using namespace pt_frame_detail;
     const Options& o = ctx_.options;
-    const ReuseFrame f{uint32_t(frame.index), o.render.seed, uint32_t(s)};
-    const FrameWorld<Tracer>& fw = world_.view();
-    c.begin_frame(world_, ctx_, frame, s);
-    {
-      StageTimer timer(frame.stages, "candidates");
-      Exec::for_pixels(c.width, c.height, CandidateStage<Tracer>{fw, settings_, o.pt.candidates, f, c.view(), c.reservoirs.data},
-                       "ReSTIR PT initial paths", frame.progress);
-    }
+    const FrameWorld<Tracer>& fw = this->fw();
+    this->template candidates<PathReservoir>(frame, c, Sampler<Tracer>{fw, settings_, o.pt.candidates, f}, "ReSTIR PT initial paths");
     const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
     c.reuse(o.pt.reuse, frame,
             PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f);
-    {
-      StageTimer timer(frame.stages, "shading");
-      const ShadeStage stage{c.view(), c.reservoirs.data, direct_ != nullptr, o.render.debug_view, c.debug(), sum_.data};
-      Exec::for_pixels(c.width, c.height, stage, "ReSTIR PT shading");
-    }
+    this->template shade<PathReservoir>(frame, c, Shader{direct_ != nullptr}, "ReSTIR PT shading");
     if (o.render.debug_view == DebugView::reconnection_depth) {
       std::vector<PathReservoir> host(size_t(c.width) * size_t(c.height));
       Exec::download(host.data(), c.reservoirs, host.size());
-      print_reconnection_histogram(frame.index, s, host);
+      print_reconnection_histogram(frame.index, int(f.chain), host);
     }
-    c.end_frame();
   }
 
-  RenderContext ctx_;
   PathSettings settings_;
-  typename B::World world_;
-  std::vector<std::unique_ptr<Chain>> chains_;
-  typename Exec::template Array<Rgb> sum_;
   std::unique_ptr<Integrator> direct_;
 };
 

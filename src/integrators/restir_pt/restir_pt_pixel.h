@@ -109,6 +109,9 @@ struct PtBridges {
   }
 };
 
+// The reconnection-depth debug view's value: the final path's reconnection vertex k (0: none).
+RESTIR_HD inline int reconnection_depth_of(const PathReservoir& r) { return r.has_sample() ? r.sample.rc : 0; }
+
 // A pixel's radiance: the emission its primary hit sees (unless ReSTIR DI adds it, pt.direct =
 // restir-di) + f(Y) W_Y of its reservoir's path, W_Y its unbiased contribution weight (Lin et al. 2022).
 RESTIR_HD inline Rgb pt_shade(const GSurface& sf, const PathReservoir& r, bool direct_from_di) {

@@ -42,6 +42,15 @@ RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const
   return true;
 }
 
+// A shift's result: out takes the offset path's contribution m_t f and the density of its replayed
+// part; true when the shift succeeded (a contribution and a finite, positive Jacobian).
+RESTIR_HD inline bool shifted(Rgb contribution, float replay_pdf, float jacobian_value, PathSample& out, float& jacobian) {
+  out.contribution = contribution;
+  out.replay_pdf = replay_pdf;
+  jacobian = jacobian_value;
+  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+}
+
 // The offset path's last segment, drawn by one of the two strategies.
 struct ReplayedTail {
   Rgb f;       // the path's f
@@ -107,10 +116,7 @@ RESTIR_HD bool replay_last_vertex(const PathWorld& world, const Tracer& tracer, 
   ReplayedTail tail;
   if (!(base.nee ? replay_nee(world, tracer, ps, u, check, pre, tail) : replay_bsdf(world, tracer, ps, u, check, pre, tail)))
     return false;
-  out.contribution = tail.f * tail.mis;
-  out.replay_pdf = tail.p;
-  jacobian = tail.p > 0 ? base.replay_pdf / tail.p : 0.0f;
-  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+  return shifted(tail.f * tail.mis, tail.p, tail.p > 0 ? base.replay_pdf / tail.p : 0.0f, out, jacobian);
 }
 
 }  // namespace pt_detail

@@ -82,11 +82,8 @@ RESTIR_HD bool reconnect(const PathWorld& world, const Tracer& tracer, const Pat
   const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, hybrid, pre, r)
                                          : reconnect_surface(world, tracer, ps, base, hybrid, pre, r);
   if (!ok) return false;
-  out.contribution = r.f * r.mis;
-  out.replay_pdf = pre.pdf;
   out.rc_previous = pre.v.p;
-  jacobian = base.replay_pdf / pre.pdf * r.jacobian;
-  return !is_black(out.contribution) && std::isfinite(jacobian) && jacobian > 0;
+  return shifted(r.f * r.mis, pre.pdf, base.replay_pdf / pre.pdf * r.jacobian, out, jacobian);
 }
 
 }  // namespace pt_detail

@@ -301,10 +301,7 @@ class Ssr final : public Integrator {
 
 }  // namespace
 
-void check_ssr(const RenderContext& ctx) {
-  if (ctx.options.render.debug_view != DebugView::none)
-    throw OptionError("render.debug_view: ssr has no debug views (they belong to the ReSTIR integrators)");
-}
+void check_ssr(const RenderContext& ctx) { refuse_debug_views(ctx, "ssr has no debug views (they belong to the ReSTIR integrators)"); }
 
 std::unique_ptr<Integrator> make_ssr(const RenderContext& ctx) { return std::make_unique<Ssr>(ctx); }
 
