@@ -3,7 +3,7 @@
 // integrators will need there (G-buffer, light sampling in every form, reprojection, similarity).
 // nvcc compiles each for the device here, and --Werror cross-execution-space-call turns any host-only
 // call inside them into a build error in CI, long before a GPU is at hand.
-#include <cuda_runtime.h>
+#include "backends/cuda/cuda_exec.cuh"
 
 #include "backends/bvh_traverse.h"
 #include "integrators/restir_di/di_candidates.h"
