@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The full equivalence certification (tests/equivalence.h, tier "full"): every ReSTIR PT shift x MIS
+# The full equivalence certification (tests/support/equivalence.h, tier "full"): every ReSTIR PT shift x MIS
 # x Russian roulette on the stripes and mirror-glass scenes, ReSTIR DI without visibility reuse and
 # ReSTIR GI, at margins of 0.5% (image mean) and 2% (8x8 blocks), alpha 0.01. ~40 minutes on two
 # cores; prints one line per configuration and exits non-zero if any fails.

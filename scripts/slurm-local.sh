@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A one-node Slurm cluster on localhost, for the cluster test (tests/slurm_study.sh) and for trying
+# A one-node Slurm cluster on localhost, for the cluster test (tests/study/slurm_study.sh) and for trying
 # `restir study --slurm` without a cluster. Debian 12's slurm-wlm + munge; everything it writes
 # (config, state, logs) lives in one folder. As root (slurmd must be able to run jobs as any user).
 #   scripts/slurm-local.sh start [DIR]   installs missing packages, writes DIR/slurm.conf, starts

@@ -15,8 +15,8 @@ for a in "$@"; do
   esac
 done
 install_missing_packages
-install_optional_packages slurm-wlm munge  # tests/slurm_study.sh: a private one-node Slurm cluster
-install_optional_packages xvfb xauth libgl1-mesa-dri libglx-mesa0 xdotool  # tests/viewer_script.sh: the viewer under Xvfb + Mesa
+install_optional_packages slurm-wlm munge  # tests/study/slurm_study.sh: a private one-node Slurm cluster
+install_optional_packages xvfb xauth libgl1-mesa-dri libglx-mesa0 xdotool  # tests/viewer/viewer_script.sh: the viewer under Xvfb + Mesa
 build "$dir" "${cmake_args[@]}"
 cd "$dir"
 ctest -j "$(nproc)" --output-on-failure --timeout 900 "${ctest_args[@]}"

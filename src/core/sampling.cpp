@@ -40,7 +40,7 @@ AliasTable::AliasTable(std::span<const float> weights) {
 }
 
 // Out of line as before: inlined, GCC warns about callers' u_remapped, which an empty table leaves
-// unwritten (-Wmaybe-uninitialized in tests/test_sampling.cpp).
+// unwritten (-Wmaybe-uninitialized in tests/core/test_sampling.cpp).
 uint32_t AliasTable::sample(float u, float* pmf, float* u_remapped) const { return view().sample(u, pmf, u_remapped); }
 
 float AliasTable::pmf(uint32_t i) const { return view().pmf(i); }

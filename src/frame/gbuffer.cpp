@@ -23,7 +23,7 @@ std::vector<Mat4> motion_back(const Scene& scene, int frame) {
 // The primary hits of a frame: camera rays tile by tile (parallel_for_tiles' 16x16 pixels, one
 // Embree stream call), traced as a coherent batch -- Embree turns neighbouring camera rays into
 // packets, which traverse the BVH once for several rays -- then each pixel's surface. The hits
-// are one scalar query per pixel's to float precision (tests/test_gbuffer.cpp): bit for bit on triangles but where a ray
+// are one scalar query per pixel's to float precision (tests/frame/test_gbuffer.cpp): bit for bit on triangles but where a ray
 // meets two at one point; Embree's packet sphere test rounds the last bits differently. The tiles
 // are fixed, so the G-buffer does not depend on the thread count. (The wavefront path tracer's
 // camera rays have gone through the same packets since issue 9.)

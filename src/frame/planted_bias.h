@@ -1,5 +1,5 @@
 // Planted biases: deliberate, small errors in ReSTIR's resampling that the test suite injects to
-// prove that its convergence harness can see them (tests/test_planted_bias.cpp). A harness that
+// prove that its convergence harness can see them (tests/integrators/test_planted_bias.cpp). A harness that
 // cannot detect a planted bias is no evidence of unbiasedness. Null in every real render; nothing
 // outside the tests sets it, and it is not an option.
 #pragma once

@@ -69,7 +69,7 @@ struct PathSettings {
   PtOptions pt;
   int min_length = 2;  // shortest path offered (3 when direct lighting comes from ReSTIR DI)
   // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
-  // convergence harness must detect (tests/test_planted_bias.cpp). Never false in a render.
+  // convergence harness must detect (tests/integrators/test_planted_bias.cpp). Never false in a render.
   bool check_invertibility = true;
 };
 PathSettings path_settings(const Options& o);

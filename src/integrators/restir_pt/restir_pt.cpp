@@ -16,7 +16,7 @@ void check_restir_pt(const RenderContext& ctx) {
   // random replay between the frames (see PtBridge): a reconnected path's vertex x_k and its cached
   // suffix belong to the frame that traced them and cannot be re-evaluated in another frame's
   // scene. The other shifts run with pt.history_scene = current, named as biased (its bias is
-  // measured in tests/test_animation.cpp). ReSTIR DI's own temporal reuse (pt.direct = restir-di)
+  // measured in tests/scene/test_animation.cpp). ReSTIR DI's own temporal reuse (pt.direct = restir-di)
   // is unbiased in animated scenes.
   const Options& o = ctx.options;
   if (scene_animated(ctx.scene) && o.pt.reuse.temporal && o.pt.history_scene == HistoryScene::previous &&

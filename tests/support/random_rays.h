@@ -1,4 +1,4 @@
-// Random rays through a scene, for comparing ray-query backends (tests/test_bvh.cpp on the CPU,
+// Random rays through a scene, for comparing ray-query backends (tests/backends/test_bvh.cpp on the CPU,
 // tests/gpu/test_gpu.cpp on a GPU).
 #pragma once
 #include <algorithm>

@@ -154,6 +154,39 @@ inline EquivalenceReport compare_runs(const std::vector<BlockMeans>& test, const
   return rep;
 }
 
+// The same for paired runs: test[i] and reference[i] drew the same random numbers (the same seed
+// on two backends), so their difference per run has far less variance than either: the TOST is on
+// the mean paired difference, relative to the reference's mean (a paired t-test, n - 1 dof).
+inline EquivalenceReport compare_paired(const std::vector<BlockMeans>& test, const std::vector<BlockMeans>& reference,
+                                        const EquivalenceSpec& spec = {}) {
+  EquivalenceReport rep;
+  auto paired = [&](int b) {
+    std::vector<double> diff, ref;
+    for (size_t i = 0; i < test.size(); ++i) {
+      const double t = b < 0 ? test[i].mean : test[i].blocks[size_t(b)];
+      const double r = b < 0 ? reference[i].mean : reference[i].blocks[size_t(b)];
+      diff.push_back(t - r), ref.push_back(r);
+    }
+    const Sampled d = sampled(diff), r = sampled(ref);
+    Difference out;
+    out.rel = r.mean != 0 ? d.mean / r.mean : 0;
+    out.se = r.mean != 0 ? std::sqrt(d.var_of_mean) / std::fabs(r.mean) : 0;
+    out.dof = std::max(1, d.n - 1);
+    return out;
+  };
+  rep.mean = paired(-1);
+  rep.mean_equivalent = equivalent(rep.mean, spec.mean_margin, spec.alpha);
+  rep.mean_no_difference = std::fabs(rep.mean.rel) <= spec.z_difference * rep.mean.se;
+  rep.blocks = int(reference.front().blocks.size());
+  double worst = -1;
+  for (int b = 0; b < rep.blocks; ++b) {
+    const Difference d = paired(b);
+    if (!equivalent(d, spec.block_margin, spec.alpha)) ++rep.blocks_not_equivalent;
+    if (std::fabs(d.rel) + 2.5 * d.se > worst) worst = std::fabs(d.rel) + 2.5 * d.se, rep.worst_block_rel = d.rel, rep.worst_block_se = d.se;
+  }
+  return rep;
+}
+
 // K sequences of the test configuration, each averaged over its frames.
 inline std::vector<BlockMeans> test_runs(const Scene& scene, const Options& o, int runs, uint64_t seed_base, int block,
                                          const RenderHooks& hooks = {}) {

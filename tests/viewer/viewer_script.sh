@@ -6,14 +6,14 @@
 # a saved --config (with the moved camera) renders the same image with `restir render`; the same
 # script twice gives the same images; bad scripts fail with one `error: FILE:LINE:` line.
 # Exit 77 (CTest: skipped) when the build has no viewer or xvfb-run is missing.
-#   tests/viewer_script.sh RESTIR_BINARY
+#   tests/viewer/viewer_script.sh RESTIR_BINARY
 set -euo pipefail
 # Under AddressSanitizer: Mesa's DRI driver (dlopen'ed, unloaded at exit) leaks a few hundred bytes
 # that LeakSanitizer cannot attribute (<unknown module>); the viewer's own code is leak-checked by
 # the headless doctest suite `viewer`. The rest of ASan stays on. (No effect on other builds.)
 export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 restir="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"  # absolute: a part of the test runs in another folder
-root="$(cd "$(dirname "$0")/.." && pwd)"
+root="$(cd "$(dirname "$0")/../.." && pwd)"
 scene="$root/scenes/cornell-box.pbrt"
 work="$(mktemp -d /tmp/restir-viewer-test.XXXXXX)"
 xvfb_pid=""

@@ -1,6 +1,6 @@
 // Sharded studies (issue 14) without a cluster: shards run as separate processes at the same time
 // into one folder, --merge gathers them and equals a one-process run; a missing shard is named.
-// The Slurm path itself is tested by tests/slurm_study.sh on a private one-node cluster.
+// The Slurm path itself is tested by tests/study/slurm_study.sh on a private one-node cluster.
 #include <doctest/doctest.h>
 
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// Power of the convergence harness (tests/equivalence.h): biases planted through the resampling
+// Power of the convergence harness (tests/support/equivalence.h): biases planted through the resampling
 // bridge (integrators/planted_bias.h) or the options must make the certification fail in at least
 // 9 of 10 independent repeats (different seeds), at the CI tier's budget on the same
 // configuration the certification uses. A harness that cannot detect a planted bias is no evidence

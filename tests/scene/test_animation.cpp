@@ -337,7 +337,7 @@ TEST_SUITE("slow_dynamic") {
   TEST_CASE("ReSTIR DI in the dynamic room matches each frame's path-traced reference: no ghost, no lag") {
     // Frame 8: the first frame with the switched light off (a ghost would show here); frame 11:
     // the sweeping light three frames further, the other still off. Each is compared with the
-    // path tracer on the scene frozen at that frame (equivalence, tests/equivalence.h).
+    // path tracer on the scene frozen at that frame (equivalence, tests/support/equivalence.h).
     const Scene rest = load_scene(std::string(RESTIR_SOURCE_DIR) + "/scenes/dynamic-room.pbrt");
     const Options o = dynamic_room_di(rest, "previous");
     check_frames_match(rest, o, {8, 11}, 300, 5000, 512, "");

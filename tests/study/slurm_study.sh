@@ -3,10 +3,10 @@
 # resubmission after a cancelled task runs only the missing jobs. Starts a private one-node Slurm
 # cluster (scripts/slurm-local.sh) and stops it on exit. Exit 77 (CTest: skipped) when Slurm is not
 # installed and cannot be (not root, no package source): the message says so.
-#   tests/slurm_study.sh RESTIR_BINARY
+#   tests/study/slurm_study.sh RESTIR_BINARY
 set -euo pipefail
 restir="$1"
-root="$(cd "$(dirname "$0")/.." && pwd)"
+root="$(cd "$(dirname "$0")/../.." && pwd)"
 work="$(mktemp -d /tmp/restir-slurm-test.XXXXXX)"
 export PORT=$((20000 + RANDOM % 20000))
 cleanup() {

@@ -1,5 +1,5 @@
 // Equivalence of every unbiased ReSTIR configuration with the reference path tracer (harness,
-// criteria and tiers: tests/equivalence.h):
+// criteria and tiers: tests/support/equivalence.h):
 //  - ReSTIR PT, every shift x {pairwise, generalized balance} x {Russian roulette off, on} on the
 //    scenes that stress the shifts (scenes/stripes.pbrt, scenes/mirror-glass.pbrt);
 //  - ReSTIR PT with 1/Z, every shift x roulette, on the Cornell box. On the stripes and mirror-glass
