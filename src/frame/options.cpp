@@ -33,6 +33,16 @@ void set_option_assignment(Options& o, std::string_view a) {
 }
 
 namespace {
+// A --config key (or a study's base) set to the value it already has is not recorded as explicit:
+// a whole echoed configuration (save-config, a sidecar's options) names every group, and its
+// unchanged keys are no choice that the integrator could ignore (check_option_groups).
+void set_config_option(Options& o, const std::string& key, const std::string& value) {
+  const bool was_explicit = std::find(o.explicit_keys.begin(), o.explicit_keys.end(), key) != o.explicit_keys.end();
+  const auto before = option_values(o);
+  set_option(o, key, value);
+  if (!was_explicit && option_values(o) == before) std::erase(o.explicit_keys, key);
+}
+
 void apply_json_node(Options& o, const nlohmann::json& j, const std::string& prefix) {
   if (!j.is_object()) throw OptionError("config: expected a JSON object at '" + prefix + "'");
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -41,13 +51,13 @@ void apply_json_node(Options& o, const nlohmann::json& j, const std::string& pre
     if (v.is_object()) {
       apply_json_node(o, v, key);
     } else if (v.is_string()) {
-      set_option(o, key, v.get<std::string>());
+      set_config_option(o, key, v.get<std::string>());
     } else if (v.is_boolean()) {
-      set_option(o, key, v.get<bool>() ? "true" : "false");
+      set_config_option(o, key, v.get<bool>() ? "true" : "false");
     } else if (v.is_number_integer() || v.is_number_unsigned()) {
-      set_option(o, key, v.dump());
+      set_config_option(o, key, v.dump());
     } else if (v.is_number_float()) {
-      set_option(o, key, fmt::format("{}", v.get<double>()));  // not via float: 1e300 must stay out of range
+      set_config_option(o, key, fmt::format("{}", v.get<double>()));  // not via float: 1e300 must stay out of range
     } else {
       throw OptionError("config: option '" + key + "' has an unsupported JSON type");
     }

@@ -186,7 +186,8 @@ struct Options {
   SsrOptions ssr;
   OutputOptions output;
   // The keys set explicitly (set_option: the CLI, --config, a study's base and axes, the viewer's
-  // panel), each once; not an option itself. Values a scene file gives are not explicit.
+  // panel), each once; not an option itself. Values a scene file gives are not explicit, nor is a
+  // --config key whose value is the one already there (an echoed configuration names every group).
   // check_option_groups refuses one that the chosen integrator does not read.
   std::vector<std::string> explicit_keys;
 };

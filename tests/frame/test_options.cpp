@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <doctest/doctest.h>
 
 #include "frame/options.h"
@@ -84,6 +85,32 @@ TEST_CASE("options: an explicitly set key the integrator does not read is an err
   apply_options_json(cfg, R"({"integrator": "restir-gi", "di": {"spatial_neighbors": 2}})");
   CHECK_THROWS_WITH_AS(validate_options(cfg), doctest::Contains("'di.spatial_neighbors' is not read by the integrator restir-gi"),
                        OptionError);
+}
+
+TEST_CASE("options: an echoed configuration (every group) feeds back through --config") {
+  // save-config and the sidecars write every key; the unchanged ones are no choice.
+  Options saved;
+  set_option(saved, "integrator", "restir-di");
+  set_option(saved, "di.spatial_neighbors", "3");  // not the default (5)
+  const std::string echoed = options_to_json(saved, 2);
+  Options loaded;
+  apply_options_json(loaded, echoed);
+  CHECK(options_to_json(loaded, 2) == echoed);
+  CHECK_NOTHROW(validate_options(loaded));
+  CHECK(std::find(loaded.explicit_keys.begin(), loaded.explicit_keys.end(), "di.spatial_neighbors") != loaded.explicit_keys.end());
+  CHECK(std::find(loaded.explicit_keys.begin(), loaded.explicit_keys.end(), "pt.spatial_radius") == loaded.explicit_keys.end());
+  // One changed key of another group is still refused, even inside an echoed configuration.
+  saved.pt.reuse.spatial_radius = 11;
+  Options changed;
+  apply_options_json(changed, options_to_json(saved, 2));
+  CHECK_THROWS_WITH_AS(validate_options(changed), doctest::Contains("'pt.spatial_radius' is not read by the integrator restir-di"),
+                       OptionError);
+  // A key set explicitly earlier stays explicit when the config repeats its value.
+  Options cli;
+  set_option(cli, "integrator", "restir-di");
+  set_option(cli, "pt.spatial_radius", std::to_string(Options{}.pt.reuse.spatial_radius));
+  apply_options_json(cli, R"({"pt": {"spatial_radius": )" + std::to_string(Options{}.pt.reuse.spatial_radius) + "}}");
+  CHECK_THROWS_AS(validate_options(cli), OptionError);
 }
 
 TEST_CASE("options: a scene file's values are not explicit keys") {

@@ -118,7 +118,7 @@ Shape "trianglemesh"
     Scene scene = load_scene(path);
     for (const char* mis : {"pairwise", "generalized-balance"}) {
       Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
-                                      "film.width=16", "film.height=16", "path.max_depth=1", "di.visibility_reuse=false",
+                                      "film.width=16", "film.height=16", "di.visibility_reuse=false",
                                       "di.light_candidates=4", "di.bsdf_candidates=4", "di.spatial_neighbors=6",
                                       "di.spatial_radius=4"});
       set_option(o, "di.spatial_mis", mis);
@@ -167,7 +167,7 @@ Shape "trianglemesh" "point3 P" [ -0.3 0 -0.3  0.3 0 -0.3  0.3 1.2 -0.3  -0.3 1.
     }
     Scene scene = load_scene(path);
     Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
-                                    "film.width=16", "film.height=16", "path.max_depth=1", "di.light_candidates=4",
+                                    "film.width=16", "film.height=16", "di.light_candidates=4",
                                     "di.bsdf_candidates=1", "di.light_tiles=4", "di.light_tile_size=16",
                                     "di.spatial_neighbors=6", "di.spatial_radius=4"});
     certify_one("restir-di light tiles", path, scene, o, certification(o.di.reuse.spatial_mis, 400, 400, 32768));
@@ -195,7 +195,7 @@ Shape "trianglemesh" "point3 P" [ -0.6 0 -0.6 0.6 0 -0.6 0.6 1.2 -0.6 -0.6 1.2 -
     }
     Scene scene = load_scene(path);
     Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
-                                    "film.width=16", "film.height=16", "path.max_depth=1", "di.light_candidates=8",
+                                    "film.width=16", "film.height=16", "di.light_candidates=8",
                                     "di.bsdf_candidates=1", "di.light_tiles=4", "di.light_tile_size=16", "di.env_tile_size=16",
                                     "di.spatial_neighbors=6", "di.spatial_radius=4"});
     certify_one("restir-di env tiles", path, scene, o, certification(o.di.reuse.spatial_mis, 400, 400, 32768));

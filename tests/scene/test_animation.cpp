@@ -268,6 +268,7 @@ std::vector<test::BlockMeans> frozen_reference(const Scene& rest, const Options&
   r.render.frames = 1;
   r.render.spp = spp;
   r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
+  r = test::only_read_keys(r);
   std::vector<test::BlockMeans> out;
   for (int i = 0; i < runs; ++i) {
     r.render.seed = 1 + uint64_t(i);
@@ -377,7 +378,7 @@ Options dynamic_room_gi(const Scene& rest) {
   o.integrator = "restir-gi";
   o.path.max_depth = 3;
   set_option(o, "gi.spatial_radius", "4");
-  return o;
+  return test::only_read_keys(o);  // the DI room's di.* keys, not restir-gi's
 }
 }  // namespace
 

@@ -206,6 +206,7 @@ inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_pa
   static std::map<std::string, std::vector<BlockMeans>> cache;
   Options r = o;
   r.integrator = "pt";
+  if (o.integrator == "restir-di") r.path.max_depth = 1;  // direct light (reference_options, as the study harness)
   r.render.frames = 1;
   r.render.spp = std::max(1, total_spp / runs);
   r.render.camera_path.clear();
@@ -214,6 +215,7 @@ inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_pa
   r.pt = PtOptions{};  // only what the path tracer reads identifies a reference
   r.di = DiOptions{};
   r.gi = GiOptions{};
+  r = only_read_keys(r);
   const std::string key = scene_path + options_to_json(r, -1) + std::to_string(block) + "/" + std::to_string(runs);
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;

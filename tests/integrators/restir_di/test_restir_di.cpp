@@ -24,7 +24,7 @@ Options reference_options(const Options& test, int spp) {
   r.path.max_depth = 1;
   r.render.spp = spp;
   r.render.debug_view = DebugView::none;
-  return r;
+  return test::only_read_keys(r);
 }
 }  // namespace
 
