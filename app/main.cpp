@@ -14,6 +14,8 @@
 
 #include "backends/cuda/cuda_queries.h"
 #include "core/build_info.h"
+#include "core/io_error.h"
+#include "core/option_io.h"
 #include "core/output_guard.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
@@ -104,7 +106,7 @@ std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const 
       if (std::sscanf(name.c_str(), "frame_%d.exr", &f) == 1 && f >= 0 && f < o.render.frames &&
           name == fmt::format("frame_{:04d}.exr", f) &&
           same_file(pp.parent_path().empty() ? "." : pp.parent_path().string(), a.frame_dir))
-        throw std::runtime_error(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
+        throw IoError(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
     }
   }
   check_outputs(outs, inputs);
@@ -273,10 +275,10 @@ bool display_referred(const std::string& path) {
 
 int run_compare(const std::string& a, const std::string& b, bool json) {
   if (display_referred(a) != display_referred(b))
-    throw std::runtime_error(fmt::format("compare: '{}' is {} but '{}' is {}: the metrics would be meaningless; compare "
-                                         "two linear images (EXR) or two tone-mapped ones", a,
-                                         display_referred(a) ? "tone-mapped (8-bit sRGB)" : "linear HDR", b,
-                                         display_referred(b) ? "tone-mapped (8-bit sRGB)" : "linear HDR"));
+    throw OptionError(fmt::format("compare: '{}' is {} but '{}' is {}: the metrics would be meaningless; compare "
+                                  "two linear images (EXR) or two tone-mapped ones", a,
+                                  display_referred(a) ? "tone-mapped (8-bit sRGB)" : "linear HDR", b,
+                                  display_referred(b) ? "tone-mapped (8-bit sRGB)" : "linear HDR"));
   Image test = read_image(a), ref = read_image(b);
   double m = mse(test, ref), r = rel_mse(test, ref), e = mean_abs_error(test, ref);
   double lt = image_stats(test).mean_luminance, lr = image_stats(ref).mean_luminance;
@@ -442,8 +444,8 @@ int run_command(Commands& c) {
 #ifdef RESTIR_HAVE_VIEWER
     return viewer::run_view(c.va);
 #else
-    throw std::runtime_error("view: this build has no viewer (configure with -DRESTIR_VIEWER=ON; it needs the Debian "
-                             "packages libglfw3-dev, libimgui-dev and libgl-dev)");
+    throw OptionError("view: this build has no viewer (configure with -DRESTIR_VIEWER=ON; it needs the Debian "
+                      "packages libglfw3-dev, libimgui-dev and libgl-dev)");
 #endif
   }
   if (*c.study_cmd) return run_study_command(c);

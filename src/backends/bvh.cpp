@@ -63,7 +63,7 @@ struct Flattener {
   }
   // Writes inner node n at index `at` (already reserved), children depth-first after it.
   void inner(const BuildNode* n, uint32_t at, int depth) {
-    if (depth > kBvhMaxDepth) throw std::runtime_error("BVH deeper than the traversal stack allows");
+    if (depth > kBvhMaxDepth) throw BackendError("BVH deeper than the traversal stack allows");
     out.depth = std::max(out.depth, depth);
     for (int c = 0; c < 2; ++c) {
       BvhNode& slot = out.nodes[at];
@@ -176,14 +176,14 @@ Bvh build_bvh(const Scene& scene) {
   if (prims.empty()) return bvh;
 
   RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
-  if (!device) throw std::runtime_error("cannot create the Embree device for the BVH build");
+  if (!device) throw BackendError("cannot create the Embree device for the BVH build");
   RTCBVH handle = rtcNewBVH(device);
   RTCBuildArguments args = build_arguments(handle, in.refs);
   void* root = rtcBuildBVH(&args);
   const RTCError err = rtcGetDeviceError(device);
   try {
     if (!root || err != RTC_ERROR_NONE)
-      throw std::runtime_error("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
+      throw BackendError("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
     flatten(static_cast<const BuildNode*>(root), prims, bvh);
   } catch (...) {
     rtcReleaseBVH(handle);
@@ -192,7 +192,7 @@ Bvh build_bvh(const Scene& scene) {
   }
   rtcReleaseBVH(handle);
   rtcReleaseDevice(device);
-  if (bvh.primitives.size() != prims.size()) throw std::runtime_error("BVH build lost primitives");
+  if (bvh.primitives.size() != prims.size()) throw BackendError("BVH build lost primitives");
   return bvh;
 }
 

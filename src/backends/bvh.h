@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "backends/backend_error.h"
 #include "core/math.h"
 #include "scene/scene.h"
 
@@ -53,7 +54,7 @@ struct Bvh {
 };
 
 // SAH build over every triangle and sphere of the scene (its current pose). Throws
-// std::runtime_error if Embree fails.
+// BackendError if Embree fails.
 Bvh build_bvh(const Scene& scene);
 
 }  // namespace rl

@@ -11,7 +11,7 @@ namespace rl {
 
 FileLock::FileLock(const std::string& path) {
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(path + ": cannot open lock file (" + std::strerror(errno) + ")");
+  if (fd_ < 0) throw IoError(path + ": cannot open lock file (" + std::strerror(errno) + ")");
   struct flock l {};
   l.l_type = F_WRLCK;
   l.l_whence = SEEK_SET;
@@ -19,7 +19,7 @@ FileLock::FileLock(const std::string& path) {
     if (errno == EINTR) continue;
     const int e = errno;
     ::close(fd_);
-    throw std::runtime_error(path + ": cannot lock (" + std::strerror(e) + ")");
+    throw IoError(path + ": cannot lock (" + std::strerror(e) + ")");
   }
 }
 

@@ -4,12 +4,14 @@
 #pragma once
 #include <string>
 
+#include "core/io_error.h"
+
 namespace rl {
 
 class FileLock {
  public:
-  // Blocks until the lock on `path` (created if missing) is held. Throws std::runtime_error when
-  // the file cannot be opened or locked.
+  // Blocks until the lock on `path` (created if missing) is held. Throws IoError when the file
+  // cannot be opened or locked.
   explicit FileLock(const std::string& path);
   ~FileLock();
   FileLock(const FileLock&) = delete;

@@ -23,7 +23,7 @@ std::string lower_ext(const std::string& path) {
 }
 
 [[noreturn]] void refuse(const OutputFile& o, const std::string& why) {
-  throw std::runtime_error(o.flag + " '" + o.path + "': " + why);
+  throw IoError(o.flag + " '" + o.path + "': " + why);
 }
 
 void check_extension(const OutputFile& o) {

@@ -1,9 +1,11 @@
 // Output safety for the command line: every output path of a command is checked before any work
 // starts, so that a run never destroys a user's file and never fails at the end for a reason known
-// at the start. Errors are std::runtime_error with one line naming the flag and the path.
+// at the start. Errors are IoError (core/io_error.h) with one line naming the flag and the path.
 #pragma once
 #include <string>
 #include <vector>
+
+#include "core/io_error.h"
 
 namespace rl {
 
@@ -19,7 +21,7 @@ struct OutputFile {
 // meshes, textures); two outputs that are the same file; an extension that contradicts the
 // format; an output that is an existing directory (or, for `directory`, an existing file); a
 // sidecar that would replace a file that is not a sidecar of ours. Then
-// creates every missing output folder and checks that each is writable. Throws std::runtime_error.
+// creates every missing output folder and checks that each is writable. Throws IoError.
 void check_outputs(const std::vector<OutputFile>& outputs, const std::vector<std::string>& inputs);
 
 // True when a and b name the same file (existing: same inode; else the same normalized path).

@@ -12,7 +12,7 @@ namespace rl {
 using CudaBackend = BvhBackend<cuda::CudaExec>;
 
 // An algorithm's frame on device 0: what its registry row's `make_cuda` returns (registry.cpp).
-// Throws std::runtime_error naming what failed (no device, too little memory).
+// Throws BackendError naming what failed (no device, too little memory).
 template <template <class> class Frame, class... Args>
 std::unique_ptr<Integrator> make_on_cuda(const RenderContext& ctx, Args&&... args) {
   cuda::check(cudaSetDevice(0), "selecting device 0");

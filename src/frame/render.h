@@ -98,7 +98,7 @@ class FrameRenderer {
   int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction
 };
 
-// Renders o.render.frames frames. Throws OptionError / RenderError / std::runtime_error.
+// Renders o.render.frames frames. Throws OptionError / RenderError, BackendError (Embree, the CUDA device).
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks = {});
 
 // mean <- mean + (img - mean) / count: the running mean after the count-th image (same size).

@@ -41,7 +41,7 @@ namespace {
 constexpr int64_t kMaxPixels = int64_t(1) << 28;
 
 [[noreturn]] void fail(const char* fn, const std::string& path, const std::string& why) {
-  throw std::runtime_error(fmt::format("{}: '{}': {}", fn, path, why));
+  throw ImageError(fmt::format("{}: '{}': {}", fn, path, why));
 }
 
 std::string lower_extension(const std::string& path) {
@@ -71,11 +71,11 @@ void check_image_shape(const char* fn, const std::string& path, const Image& img
 // crash (rename is atomic for the name, not for the data).
 void sync_file(const std::string& path) {
   int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) throw std::runtime_error(fmt::format("cannot reopen temp file to sync: {}", std::strerror(errno)));
+  if (fd < 0) throw ImageError(fmt::format("cannot reopen temp file to sync: {}", std::strerror(errno)));
   int r = ::fsync(fd);
   int err = errno;
   ::close(fd);
-  if (r != 0) throw std::runtime_error(fmt::format("fsync failed: {}", std::strerror(err)));
+  if (r != 0) throw ImageError(fmt::format("fsync failed: {}", std::strerror(err)));
 }
 
 // The atomic-write protocol of every writer: write(tmp) -> fsync -> rename(tmp, path). On failure
@@ -149,10 +149,9 @@ Image read_exr(const std::string& path) {
     std::string names;
     for (auto it = channels.begin(); it != channels.end(); ++it) names += std::string(names.empty() ? "" : ",") + it.name();
     fail(fn, path, fmt::format("no R,G,B or Y channels (channels: {})", names.empty() ? "none" : names));
-  } catch (const std::runtime_error& e) {
-    if (std::string_view(e.what()).starts_with(fn)) throw;  // already one of ours
-    fail(fn, path, fmt::format("malformed or truncated OpenEXR file: {}", e.what()));
-  } catch (const std::exception& e) {
+  } catch (const ImageError&) {
+    throw;  // already one of ours
+  } catch (const std::exception& e) {  // OpenEXR's (Iex) and the standard library's
     fail(fn, path, fmt::format("malformed or truncated OpenEXR file: {}", e.what()));
   }
 }
@@ -240,7 +239,7 @@ void write_exr(const std::string& path, const Image& img,
     // Our own stream so that a failed flush (disk full) is seen: OutputFile's destructor, which
     // writes the line offset table, swallows errors.
     std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os) throw std::runtime_error(fmt::format("cannot create temp file '{}': {}", tmp, std::strerror(errno)));
+    if (!os) throw ImageError(fmt::format("cannot create temp file '{}': {}", tmp, std::strerror(errno)));
     {
       Imf::StdOFStream stream(os, tmp.c_str());
       Imf::OutputFile file(stream, header);
@@ -253,7 +252,7 @@ void write_exr(const std::string& path, const Image& img,
       file.writePixels(img.height);
     }
     os.close();
-    if (!os) throw std::runtime_error(fmt::format("error writing temp file '{}'", tmp));
+    if (!os) throw ImageError(fmt::format("error writing temp file '{}'", tmp));
   });
 }
 
@@ -284,17 +283,17 @@ void write_png(const std::string& path, const Image& img) {
     }
   atomic_write(fn, path, [&](const std::string& tmp) {
     if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, bytes.data(), img.width * 3))
-      throw std::runtime_error(fmt::format("stb_image_write could not write temp file '{}'", tmp));
+      throw ImageError(fmt::format("stb_image_write could not write temp file '{}'", tmp));
   });
 }
 
 void write_text_file_atomic(const std::string& path, const std::string& text) {
   atomic_write("write_text_file_atomic", path, [&](const std::string& tmp) {
     std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os) throw std::runtime_error(fmt::format("cannot create temp file '{}': {}", tmp, std::strerror(errno)));
+    if (!os) throw ImageError(fmt::format("cannot create temp file '{}': {}", tmp, std::strerror(errno)));
     os.write(text.data(), std::streamsize(text.size()));
     os.close();
-    if (!os) throw std::runtime_error(fmt::format("error writing temp file '{}'", tmp));
+    if (!os) throw ImageError(fmt::format("error writing temp file '{}'", tmp));
   });
 }
 

@@ -1,11 +1,12 @@
 // Image files: OpenEXR (read any scanline/tiled single-part layout, write float RGB + metadata),
 // PNG/JPEG/HDR through stb_image, PNG out through stb_image_write. Every write is atomic.
 //
-// Errors: every function throws std::runtime_error with one line that starts with the function
-// name and names the file, e.g.
+// Errors: every function throws ImageError with one line that starts with the function name and
+// names the file, e.g.
 //   "read_image: 'scenes/x.exr': no such file"
 //   "read_image: 'a.exr': malformed or truncated OpenEXR file: <OpenEXR's reason>"
 #pragma once
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,11 @@
 #include "image/image.h"
 
 namespace rl {
+
+// An image file that cannot be read or written.
+struct ImageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 // Reads an image into linear RGB floats, row 0 at the top. Dispatch on the (case-insensitive)
 // extension:
@@ -26,7 +32,7 @@ namespace rl {
 //  .png/.jpg/.jpeg/.bmp/.tga  via stb_image, 8 or 16 bit, decoded from sRGB to linear
 //        (IEC 61966-2-1); grey is replicated to RGB; alpha is dropped (not premultiplied).
 //  .hdr  Radiance RGBE via stb_image, linear as stored.
-// Anything else: std::runtime_error naming the extension.
+// Anything else: ImageError naming the extension.
 Image read_image(const std::string& path);
 
 // Writes linear float RGB (32-bit float channels R,G,B, ZIP compression: lossless), with the
@@ -35,7 +41,7 @@ Image read_image(const std::string& path);
 // (channels, compression, dataWindow, displayWindow, lineOrder, pixelAspectRatio,
 // screenWindowCenter, screenWindowWidth, ...).
 // Atomic: writes "<path>.tmp-<pid>" in the same directory, then rename()s it over path; on any
-// failure the temp file is removed, path is left untouched, and std::runtime_error is thrown.
+// failure the temp file is removed, path is left untouched, and ImageError is thrown.
 // (The temp name is per process: two threads of one process must not write the same path.)
 void write_exr(const std::string& path, const Image& img,
                const std::vector<std::pair<std::string, std::string>>& metadata = {});

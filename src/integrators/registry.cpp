@@ -111,7 +111,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& name, const Rende
     return info.make_cuda(ctx);
   } catch (const OptionError&) {
     throw;
-  } catch (const std::runtime_error& e) {  // the device: missing, busy, out of memory
+  } catch (const std::runtime_error& e) {  // the device (BackendError: missing, busy, out of memory) or the CUDA runtime
     throw OptionError(std::string("render.backend = cuda: ") + e.what());
   }
 }

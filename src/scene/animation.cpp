@@ -77,13 +77,13 @@ void bracket(const Animation& a, int frame, const AnimationKey*& k0, const Anima
 }
 
 Vec3 json_vec3(const nlohmann::json& j, const std::string& where) {
-  if (!j.is_array() || j.size() != 3) throw std::runtime_error(where + " must be an array of 3 numbers");
+  if (!j.is_array() || j.size() != 3) throw SceneError(where + " must be an array of 3 numbers");
   Vec3 v;
   float* c[3] = {&v.x, &v.y, &v.z};
   for (size_t i = 0; i < 3; ++i) {
-    if (!j[i].is_number()) throw std::runtime_error(where + " must hold numbers");
+    if (!j[i].is_number()) throw SceneError(where + " must hold numbers");
     const double d = j[i].get<double>();
-    if (!(std::fabs(d) <= kMaxWorldCoordinate)) throw std::runtime_error(where + " is beyond the supported world extent");
+    if (!(std::fabs(d) <= kMaxWorldCoordinate)) throw SceneError(where + " is beyond the supported world extent");
     *c[i] = float(d);
   }
   return v;
@@ -91,32 +91,32 @@ Vec3 json_vec3(const nlohmann::json& j, const std::string& where) {
 
 AnimationKey parse_key(const nlohmann::json& k, size_t index) {
   const std::string where = fmt::format("keys[{}]", index);
-  if (!k.is_object()) throw std::runtime_error(where + " must be an object");
+  if (!k.is_object()) throw SceneError(where + " must be an object");
   for (const auto& [name, value] : k.items())
     if (name != "frame" && name != "translate" && name != "rotate" && name != "intensity")
-      throw std::runtime_error(fmt::format("{}: unknown key \"{}\" (frame, translate, rotate, intensity)", where, name));
+      throw SceneError(fmt::format("{}: unknown key \"{}\" (frame, translate, rotate, intensity)", where, name));
   AnimationKey key;
   if (!k.contains("frame") || !k["frame"].is_number_integer() || k["frame"].get<long long>() < 0 ||
       k["frame"].get<long long>() > 100000000)
-    throw std::runtime_error(where + ".frame must be an integer frame number in [0, 1e8]");
+    throw SceneError(where + ".frame must be an integer frame number in [0, 1e8]");
   key.frame = int(k["frame"].get<long long>());
   if (k.contains("translate")) key.translate = json_vec3(k["translate"], where + ".translate");
   if (k.contains("rotate")) {
     const auto& r = k["rotate"];
     if (!r.is_array() || r.size() != 4 || !std::all_of(r.begin(), r.end(), [](const auto& x) { return x.is_number(); }))
-      throw std::runtime_error(where + ".rotate must be [degrees, axis x, axis y, axis z]");
+      throw SceneError(where + ".rotate must be [degrees, axis x, axis y, axis z]");
     double v[4];
     for (size_t i = 0; i < 4; ++i) {
       v[i] = r[i].get<double>();  // checked as a double: a float cast of 1e300 is undefined
-      if (!(std::fabs(v[i]) <= 1e6)) throw std::runtime_error(where + ".rotate: each number must lie in [-1e6, 1e6]");
+      if (!(std::fabs(v[i]) <= 1e6)) throw SceneError(where + ".rotate: each number must lie in [-1e6, 1e6]");
     }
     key.angle_degrees = float(v[0]);
     key.axis = {float(v[1]), float(v[2]), float(v[3])};
-    if (!(length(key.axis) > 1e-12f)) throw std::runtime_error(where + ".rotate needs a non-zero axis");
+    if (!(length(key.axis) > 1e-12f)) throw SceneError(where + ".rotate needs a non-zero axis");
   }
   if (k.contains("intensity")) {
     if (!k["intensity"].is_number() || !(k["intensity"].get<double>() >= 0) || !(k["intensity"].get<double>() <= 1e6))
-      throw std::runtime_error(where + ".intensity must be a number in [0, 1e6]");
+      throw SceneError(where + ".intensity must be a number in [0, 1e6]");
     key.intensity = float(k["intensity"].get<double>());
   }
   return key;
@@ -149,37 +149,36 @@ Animation load_animation(const std::string& path) {
   a.file = path;
   try {
     const nlohmann::json j = nlohmann::json::parse(ss.str());
-    if (!j.is_object()) throw std::runtime_error("must be a JSON object with \"keys\"");
+    if (!j.is_object()) throw SceneError("must be a JSON object with \"keys\"");
     for (const auto& [name, value] : j.items())
       if (name != "pivot" && name != "interpolation" && name != "keys" && name != "repeat")
-        throw std::runtime_error(fmt::format("unknown key \"{}\" (pivot, interpolation, repeat, keys)", name));
+        throw SceneError(fmt::format("unknown key \"{}\" (pivot, interpolation, repeat, keys)", name));
     if (j.contains("pivot")) a.pivot = json_vec3(j["pivot"], "pivot");
     if (j.contains("interpolation")) {
       const std::string m = j["interpolation"].is_string() ? j["interpolation"].get<std::string>() : "";
-      if (m != "linear" && m != "step") throw std::runtime_error("\"interpolation\" must be \"linear\" or \"step\"");
+      if (m != "linear" && m != "step") throw SceneError("\"interpolation\" must be \"linear\" or \"step\"");
       a.step = m == "step";
     }
     if (j.contains("repeat")) {
       if (!j["repeat"].is_number_integer() || j["repeat"].get<long long>() < 1 || j["repeat"].get<long long>() > 100000000)
-        throw std::runtime_error("\"repeat\" must be an integer period in frames in [1, 1e8]");
+        throw SceneError("\"repeat\" must be an integer period in frames in [1, 1e8]");
       a.repeat = int(j["repeat"].get<long long>());
     }
     if (!j.contains("keys") || !j["keys"].is_array() || j["keys"].empty())
-      throw std::runtime_error("\"keys\" must be a non-empty list");
+      throw SceneError("\"keys\" must be a non-empty list");
     for (size_t i = 0; i < j["keys"].size(); ++i) {
       a.keys.push_back(parse_key(j["keys"][i], i));
       if (i > 0 && a.keys[i].frame <= a.keys[i - 1].frame)
-        throw std::runtime_error(fmt::format("keys[{}].frame {} must be greater than the previous key's {}", i,
-                                             a.keys[i].frame, a.keys[i - 1].frame));
+        throw SceneError(fmt::format("keys[{}].frame {} must be greater than the previous key's {}", i,
+                                     a.keys[i].frame, a.keys[i - 1].frame));
       if (a.repeat > 0 && a.keys[i].frame > a.repeat)
-        throw std::runtime_error(fmt::format("keys[{}].frame {} lies beyond the \"repeat\" period {}", i, a.keys[i].frame,
-                                             a.repeat));
+        throw SceneError(fmt::format("keys[{}].frame {} lies beyond the \"repeat\" period {}", i, a.keys[i].frame,
+                                     a.repeat));
     }
   } catch (const nlohmann::json::exception& e) {
     throw SceneError(path, 0, std::string("invalid JSON: ") + e.what());
-  } catch (const SceneError&) {
-    throw;
   } catch (const std::exception& e) {
+    if (detail::located(e)) throw;
     throw SceneError(path, 0, e.what());
   }
   return a;

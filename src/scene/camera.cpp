@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "scene/loader.h"
+
 namespace rl {
 
 CameraKey Camera::at_frame(int frame, int frame_count) const {
@@ -42,7 +44,7 @@ CameraKey Camera::at_frame(int frame, int frame_count) const {
 
 PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height)
     : camera_from_world_(key.camera_from_world), width_(width), height_(height) {
-  if (!camera_from_world_.inverse(world_from_camera_)) throw std::runtime_error("camera transform is singular");
+  if (!camera_from_world_.inverse(world_from_camera_)) throw SceneError("camera transform is singular");
   position_ = world_from_camera_.apply_point(Vec3(0));
   forward_ = normalize(world_from_camera_.apply_vector(Vec3(0, 0, 1)));
   // pbrt-v4: the fov spans the shorter image axis; the screen window is [-ratio, ratio] on the longer one.
@@ -65,17 +67,18 @@ PerspectiveCamera::PerspectiveCamera(const CameraKey& key, int width, int height
 }
 
 namespace {
-Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& where) {
+// where: "key I" of the camera path `path`.
+Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& path, const std::string& where) {
   if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
-    throw std::runtime_error(fmt::format("{}: '{}' must be an array of 3 numbers", where, key));
+    throw SceneError(path, 0, fmt::format("{}: '{}' must be an array of 3 numbers", where, key));
   Vec3 v;
   for (int i = 0; i < 3; ++i) {
-    if (!j[key][size_t(i)].is_number()) throw std::runtime_error(fmt::format("{}: '{}' must hold numbers", where, key));
+    if (!j[key][size_t(i)].is_number()) throw SceneError(path, 0, fmt::format("{}: '{}' must hold numbers", where, key));
     double d = j[key][size_t(i)].get<double>();
     // Beyond the world extent a camera puts rays where Embree cannot trace them.
     if (!(std::fabs(d) <= kMaxWorldCoordinate))
-      throw std::runtime_error(fmt::format("{}: '{}' value {} is out of range [-{:g}, {:g}]", where, key, d,
-                                           kMaxWorldCoordinate, kMaxWorldCoordinate));
+      throw SceneError(path, 0, fmt::format("{}: '{}' value {} is out of range [-{:g}, {:g}]", where, key, d,
+                                            kMaxWorldCoordinate, kMaxWorldCoordinate));
     v[i] = float(d);
   }
   return v;
@@ -84,37 +87,37 @@ Vec3 json_vec3(const nlohmann::json& j, const char* key, const std::string& wher
 
 void load_camera_path(const std::string& path, Camera& camera) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open camera path", path));
+  if (!in) throw SceneError(path, 0, "cannot open camera path");
   std::stringstream ss;
   ss << in.rdbuf();
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(ss.str());
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e400
-    throw std::runtime_error(fmt::format("{}: invalid JSON: {}", path, e.what()));
+    throw SceneError(path, 0, std::string("invalid JSON: ") + e.what());
   }
   if (!j.is_object() || !j.contains("keys") || !j["keys"].is_array() || j["keys"].empty())
-    throw std::runtime_error(fmt::format("{}: expected {{\"keys\": [ ... ]}} with at least one key", path));
+    throw SceneError(path, 0, "expected {\"keys\": [ ... ]} with at least one key");
   std::vector<CameraKey> keys;
   for (size_t i = 0; i < j["keys"].size(); ++i) {
     const auto& k = j["keys"][i];
-    std::string where = fmt::format("{}: key {}", path, i);
-    if (!k.is_object()) throw std::runtime_error(where + ": expected an object");
+    const std::string where = fmt::format("key {}", i);
+    if (!k.is_object()) throw SceneError(path, 0, where + ": expected an object");
     CameraKey key;
-    Vec3 up = k.contains("up") ? json_vec3(k, "up", where) : Vec3(0, 1, 0);
-    if (!look_at(json_vec3(k, "eye", where), json_vec3(k, "target", where), up, key.camera_from_world))
-      throw std::runtime_error(where + ": eye, target and up do not define a camera");
+    Vec3 up = k.contains("up") ? json_vec3(k, "up", path, where) : Vec3(0, 1, 0);
+    if (!look_at(json_vec3(k, "eye", path, where), json_vec3(k, "target", path, where), up, key.camera_from_world))
+      throw SceneError(path, 0, where + ": eye, target and up do not define a camera");
     // "mirror": true flips the image left-right, as pbrt scenes do with Scale -1 1 1 before
     // LookAt; the viewer writes it when it records such a scene's camera.
     if (k.contains("mirror")) {
-      if (!k["mirror"].is_boolean()) throw std::runtime_error(where + ": 'mirror' must be true or false");
+      if (!k["mirror"].is_boolean()) throw SceneError(path, 0, where + ": 'mirror' must be true or false");
       if (k["mirror"].get<bool>()) key.camera_from_world = scale(Vec3(-1, 1, 1)) * key.camera_from_world;
     }
     if (k.contains("fov")) {
-      if (!k["fov"].is_number()) throw std::runtime_error(where + ": 'fov' must be a number");
+      if (!k["fov"].is_number()) throw SceneError(path, 0, where + ": 'fov' must be a number");
       double fov = k["fov"].get<double>();
       key.fov_degrees = std::isfinite(fov) && std::fabs(fov) < 1e6 ? float(fov) : -1.0f;
-      if (!(key.fov_degrees > 0 && key.fov_degrees < 180)) throw std::runtime_error(where + ": 'fov' must be in (0, 180)");
+      if (!(key.fov_degrees > 0 && key.fov_degrees < 180)) throw SceneError(path, 0, where + ": 'fov' must be in (0, 180)");
     } else if (!camera.keys.empty()) {
       key.fov_degrees = camera.keys.front().fov_degrees;
     }

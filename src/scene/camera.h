@@ -46,7 +46,7 @@ class PerspectiveCamera {
 
 // Reads {"keys": [{"eye": [..], "target": [..], "up": [..], "fov": deg}, ...]} into camera.keys;
 // a key's optional "mirror": true mirrors its image left-right (pbrt's Scale -1 1 1).
-// Throws std::runtime_error naming the file on any problem.
+// Throws SceneError naming the file on any problem.
 void load_camera_path(const std::string& path, Camera& camera);
 
 }  // namespace rl

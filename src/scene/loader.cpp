@@ -29,6 +29,9 @@ static std::string format_error(const std::string& file, int line, const std::st
 SceneError::SceneError(const std::string& file, int line, const std::string& message)
     : std::runtime_error(format_error(file, line, message)), file_(file), line_(line), message_(message) {}
 
+SceneError::SceneError(const std::string& message)
+    : std::runtime_error(message), line_(0), message_(message), located_(false) {}
+
 CameraKey default_camera(const Bounds3& bounds) {
   CameraKey key;
   key.fov_degrees = 45;
@@ -48,19 +51,24 @@ CameraKey default_camera(const Bounds3& bounds) {
 
 namespace detail {
 
+bool located(const std::exception& e) {
+  const auto* s = dynamic_cast<const SceneError*>(&e);
+  return s && s->located();
+}
+
 TriangleMesh make_world_mesh(const std::vector<Vec3>& p, const std::vector<Vec3>& n, const std::vector<Vec2>& uv,
                              const std::vector<uint32_t>& indices, const Mat4& xf, bool reverse_orientation) {
-  if (indices.size() % 3 != 0) throw std::runtime_error("number of indices is not a multiple of 3");
+  if (indices.size() % 3 != 0) throw SceneError("number of indices is not a multiple of 3");
   if (!n.empty() && n.size() != p.size())
-    throw std::runtime_error("\"N\" has " + std::to_string(n.size()) + " entries but \"P\" has " + std::to_string(p.size()));
+    throw SceneError("\"N\" has " + std::to_string(n.size()) + " entries but \"P\" has " + std::to_string(p.size()));
   if (!uv.empty() && uv.size() != p.size())
-    throw std::runtime_error("\"uv\" has " + std::to_string(uv.size()) + " entries but \"P\" has " + std::to_string(p.size()));
+    throw SceneError("\"uv\" has " + std::to_string(uv.size()) + " entries but \"P\" has " + std::to_string(p.size()));
   for (uint32_t i : indices)
     if (i >= p.size())
-      throw std::runtime_error("vertex index " + std::to_string(i) + " out of range (" + std::to_string(p.size()) +
-                               " vertices)");
+      throw SceneError("vertex index " + std::to_string(i) + " out of range (" + std::to_string(p.size()) +
+                       " vertices)");
   Mat4 inv;
-  if (!xf.inverse(inv)) throw std::runtime_error("singular transform");
+  if (!xf.inverse(inv)) throw SceneError("singular transform");
   TriangleMesh m;
   m.positions.reserve(p.size());
   for (const Vec3& q : p) m.positions.push_back(xf.apply_point(q));
@@ -89,7 +97,7 @@ TriangleMesh make_world_mesh(const std::vector<Vec3>& p, const std::vector<Vec3>
 
 void transform_mesh(TriangleMesh& m, const Mat4& xf) {
   Mat4 inv;
-  if (!xf.inverse(inv)) throw std::runtime_error("singular transform");
+  if (!xf.inverse(inv)) throw SceneError("singular transform");
   for (Vec3& q : m.positions) q = xf.apply_point(q);
   for (Vec3& q : m.normals) {
     Vec3 w = Mat4::apply_normal_with_inverse(inv, q);
@@ -108,11 +116,10 @@ Image read_image_for(const std::string& image_path, const std::string& file, int
   }
   try {
     Image img = read_image(image_path);
-    if (img.empty()) throw std::runtime_error("empty image");
+    if (img.empty()) throw SceneError("empty image");
     return img;
-  } catch (const SceneError&) {
-    throw;
   } catch (const std::exception& e) {
+    if (located(e)) throw;
     throw SceneError(file, line, "cannot read image '" + image_path + "': " + e.what());
   }
 }
@@ -168,8 +175,8 @@ Scene load_scene(const std::string& path) {
       TriangleMesh m = detail::make_world_mesh(pm.positions, pm.normals, pm.uvs, pm.indices, Mat4::identity(), false);
       m.source = path;
       s.meshes.push_back(std::move(m));
-    } catch (const std::runtime_error& e) {
-      throw SceneError(path, 0, e.what());
+    } catch (const SceneError& e) {  // unlocated: the mesh's indices or arrays
+      throw SceneError(path, 0, e.message());
     }
   } else {
     throw SceneError(path, 0, "unknown scene file extension '." + ext + "' (expected .pbrt, .obj, .gltf, .glb or .ply)");

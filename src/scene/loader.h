@@ -13,18 +13,24 @@
 
 namespace rl {
 
+// A scene file (or a file it names: mesh, texture, animation, camera path) that cannot be loaded.
 class SceneError : public std::runtime_error {
  public:
   // line <= 0: no line ("FILE: message").
   SceneError(const std::string& file, int line, const std::string& message);
+  // Not located yet: what() is the message as given. A caller that knows the file wraps it
+  // (detail::located passes only located errors through as they are).
+  explicit SceneError(const std::string& message);
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   const std::string& message() const { return message_; }
+  bool located() const { return located_; }
 
  private:
   std::string file_;
   int line_;
   std::string message_;
+  bool located_ = true;
 };
 
 // Loads a whole scene, dispatching on the (case-insensitive) extension:
@@ -47,6 +53,10 @@ CameraKey default_camera(const Bounds3& bounds);
 
 namespace detail {
 
+// True for a SceneError that names its file: a caller that adds file:line to the errors it
+// catches lets such an error pass as it is.
+bool located(const std::exception& e);
+
 // Builds a world-space triangle mesh from object-space data with pbrt-v4's orientation rules
 // (Triangle::InteractionFromIntersection): the geometric normal is
 // normalize(cross(p0-p2, p1-p2)) (= cross(p1-p0, p2-p0)), negated if reverse_orientation XOR
@@ -55,8 +65,8 @@ namespace detail {
 // mesh gets flip_normal = reverse_orientation XOR swaps-handedness and each triangle whose
 // pbrt normal disagrees with that flag has its winding swapped (i1 <-> i2), which leaves the
 // renderer's resolved normal equal to pbrt's n. Normals: inverse transpose, normalized; with
-// reverse_orientation N is negated, as pbrt-v4 does. Throws std::runtime_error on bad indices
-// or mismatched array sizes (callers add file:line).
+// reverse_orientation N is negated, as pbrt-v4 does. Throws an unlocated SceneError on bad
+// indices or mismatched array sizes (callers add file:line).
 TriangleMesh make_world_mesh(const std::vector<Vec3>& p, const std::vector<Vec3>& n, const std::vector<Vec2>& uv,
                              const std::vector<uint32_t>& indices, const Mat4& world_from_object,
                              bool reverse_orientation);

@@ -164,9 +164,8 @@ void add_obj_meshes(std::map<int, ObjGroup>& groups, const tinyobj::shape_t& sh,
     TriangleMesh m;
     try {
       m = make_world_mesh(g.p, g.n, g.uv, g.idx, opt.world_from_object, opt.reverse_orientation);
-    } catch (const SceneError&) {
-      throw;
     } catch (const std::exception& e) {
+      if (located(e)) throw;
       throw SceneError(path, 0, "shape '" + sh.name + "': " + e.what());
     }
     m.material = mid >= 0 ? mats.index[size_t(mid)] : opt.material;
@@ -317,9 +316,8 @@ void visit_node(GltfCtx& c, int ni, const Mat4& parent) {
       TriangleMesh m;
       try {
         m = make_world_mesh(p, n, uv, idx, c.opt.world_from_object * world, c.opt.reverse_orientation);
-      } catch (const SceneError&) {
-        throw;
       } catch (const std::exception& e) {
+        if (located(e)) throw;
         throw SceneError(c.path, 0, "mesh '" + mesh.name + "': " + e.what());
       }
       int mi = prim.material;

@@ -9,8 +9,10 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/io_error.h"
 #include "image/image_io.h"
 #include "scene/lights.h"
+#include "scene/loader.h"
 #include "scene/microfacet.h"
 
 namespace rl {
@@ -31,7 +33,7 @@ float luminance_pos(Rgb c) { return std::max(luminance(c), 0.0f); }
 void write_ply(const std::string& path, const std::vector<Vec3>& p, const std::vector<Vec3>& n,
                const std::vector<Vec2>& uv, const std::vector<uint32_t>& idx) {
   std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("export-mitsuba: cannot write '" + path + "'");
+  if (!out) throw IoError("export-mitsuba: cannot write '" + path + "'");
   std::string header = fmt::format("ply\nformat binary_little_endian 1.0\nelement vertex {}\n"
                                    "property float x\nproperty float y\nproperty float z\n", p.size());
   if (!n.empty()) header += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -49,7 +51,7 @@ void write_ply(const std::string& path, const std::vector<Vec3>& p, const std::v
     out.write(reinterpret_cast<const char*>(&three), 1);
     out.write(reinterpret_cast<const char*>(&idx[t]), 12);
   }
-  if (!out) throw std::runtime_error("export-mitsuba: cannot write '" + path + "'");
+  if (!out) throw IoError("export-mitsuba: cannot write '" + path + "'");
 }
 
 // A mesh as it goes to one PLY file.
@@ -107,7 +109,7 @@ void Exporter::integrator_and_sensor() {
   xml_ += fmt::format("  <integrator type=\"path\">\n    <integer name=\"max_depth\" value=\"{}\"/>\n"
                       "  </integrator>\n", s_.max_depth + 1);
   Mat4 w;
-  if (!s_.camera.camera_from_world.inverse(w)) throw std::runtime_error("export-mitsuba: singular camera transform");
+  if (!s_.camera.camera_from_world.inverse(w)) throw SceneError("export-mitsuba: singular camera transform");
   Vec3 x{w.m[0][0], w.m[1][0], w.m[2][0]}, y{w.m[0][1], w.m[1][1], w.m[2][1]}, z{w.m[0][2], w.m[1][2], w.m[2][2]};
   Vec3 p{w.m[0][3], w.m[1][3], w.m[2][3]};
   // Mitsuba refuses scale in the camera transform; restir-lab normalizes its ray directions, so an

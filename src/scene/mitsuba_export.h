@@ -42,7 +42,8 @@ struct MitsubaExportSettings {
 };
 
 // Writes DIR/scene.xml, DIR/meshes/*.ply, DIR/textures/*.exr and DIR/envmap.exr (creating DIR).
-// Returns one line per approximation made. Throws std::runtime_error on I/O errors.
+// Returns one line per approximation made. Throws IoError or ImageError (the files written
+// through image/image_io.h) on I/O errors, SceneError for a singular camera.
 std::vector<std::string> export_mitsuba(const Scene& scene, const MitsubaExportSettings& settings,
                                         const std::string& dir);
 

@@ -167,9 +167,8 @@ void Parser::shape(const Token& d, const std::string& type, const ParamList& pl)
   std::string src = *d.file + ":" + std::to_string(d.line);
   try {
     add_shape(d, type, pl, out);
-  } catch (const SceneError&) {
-    throw;
   } catch (const std::exception& e) {
+    if (detail::located(e)) throw;
     d.fail(type + ": " + e.what());
   }
   if (type != "sphere" && out.size() == first) d.fail(type + ": the shape has no triangles");

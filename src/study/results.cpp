@@ -12,6 +12,7 @@
 
 #include "core/build_info.h"
 #include "image/image_io.h"
+#include "study/study_file.h"
 
 namespace rl::study {
 namespace fs = std::filesystem;
@@ -86,7 +87,7 @@ void ResultStore::load() {
   try {
     j = ordered_json::parse(ss.str());
   } catch (const std::exception& e) {
-    throw std::runtime_error(p.string() + ": unreadable results (" + e.what() + "); move it away to start over");
+    throw StudyError(p.string() + ": unreadable results (" + e.what() + "); move it away to start over");
   }
   for (const auto& r : j.at("rows")) {
     Row row;

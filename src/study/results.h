@@ -38,7 +38,8 @@ std::vector<std::string> split_keys(const std::string& joined);
 class ResultStore {
  public:
   ResultStore(std::string dir, std::string study, std::vector<std::string> metric_columns);
-  // Reads DIR/results.json if present (rows of earlier, possibly interrupted runs).
+  // Reads DIR/results.json if present (rows of earlier, possibly interrupted runs); a file that is
+  // not JSON is a StudyError.
   void load();
   bool has(const std::string& id) const;
   // Adds the rows of one finished job and rewrites results.json and results.csv atomically.

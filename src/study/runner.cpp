@@ -7,6 +7,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -378,18 +379,19 @@ void render_references(const std::vector<const ReferenceJob*>& ref_todo, const s
 }
 
 // Runs the pending jobs on `threads` threads until all ran, one failed or a signal came; returns
-// the first job's error ("" when none failed).
-std::string run_jobs(const Study& s, const std::vector<const Job*>& pending, const std::vector<SceneData>& scenes,
-                     ReferenceCache& refs, ResultStore& store, Progress& progress, int threads, const fs::path& out) {
+// the first job's exception (null when none failed).
+std::exception_ptr run_jobs(const Study& s, const std::vector<const Job*>& pending,
+                            const std::vector<SceneData>& scenes, ReferenceCache& refs, ResultStore& store,
+                            Progress& progress, int threads, const fs::path& out) {
   std::atomic<size_t> next{0};
   std::mutex error_mutex;
-  std::string error;
+  std::exception_ptr error;
   auto worker = [&] {
     for (;;) {
       if (g_interrupted) return;
       {
         std::lock_guard lock(error_mutex);
-        if (!error.empty()) return;
+        if (error) return;
       }
       size_t i = next++;
       if (i >= pending.size()) return;
@@ -398,9 +400,9 @@ std::string run_jobs(const Study& s, const std::vector<const Job*>& pending, con
         std::vector<Row> rows = run_job(s, j, scenes[j.scene], refs, out.string());
         store.append(rows);
         progress.step(fmt::format("{} seed {}", s.scenes[j.scene], j.seed));
-      } catch (const std::exception& e) {
+      } catch (const std::exception&) {
         std::lock_guard lock(error_mutex);
-        if (error.empty()) error = e.what();
+        if (!error) error = std::current_exception();
       }
     }
   };
@@ -421,11 +423,11 @@ void render_all(const StudyArgs& a, const Study& s, const std::vector<SceneData>
   auto old_term = std::signal(SIGTERM, on_signal);
   Progress progress(ref_todo.size() + pending.size(), !a.quiet);
   render_references(ref_todo, pending, scenes, refs, progress);
-  const std::string error = run_jobs(s, pending, scenes, refs, store, progress, a.jobs, fs::path(a.out));
+  const std::exception_ptr error = run_jobs(s, pending, scenes, refs, store, progress, a.jobs, fs::path(a.out));
   progress.finish();
   std::signal(SIGINT, old_int);
   std::signal(SIGTERM, old_term);
-  if (!error.empty()) throw std::runtime_error(error);
+  if (error) std::rethrow_exception(error);  // as the job threw it: its own type and message
 }
 
 // Drops the stale rows that a row of the current inputs replaces (what they compute is computed again).

@@ -114,7 +114,7 @@ Script parse_script(const std::string& text, const std::string& path) {
     } else {
       c.args = split_words(rest);
     }
-    check_command(c, [&](const std::string& msg) { throw std::runtime_error(path + ":" + std::to_string(line) + ": " + msg); });
+    check_command(c, [&](const std::string& msg) { throw ScriptError(path + ":" + std::to_string(line) + ": " + msg); });
     script.commands.push_back(std::move(c));
   }
   return script;
@@ -122,7 +122,7 @@ Script parse_script(const std::string& text, const std::string& path) {
 
 Script load_script(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("--script '" + path + "': cannot open the file");
+  if (!in) throw ScriptError("--script '" + path + "': cannot open the file");
   std::stringstream ss;
   ss << in.rdbuf();
   return parse_script(ss.str(), path);

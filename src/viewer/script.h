@@ -16,10 +16,16 @@
 //   save-config PATH     the current options as a --config JSON file
 //   quit                 close the viewer (the end of the script does too)
 #pragma once
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace rl::viewer {
+
+// A viewer script that cannot be read, parsed or run to its end: "FILE:LINE: message".
+struct ScriptError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct ScriptCommand {
   std::string verb;               // "set", "frames", ...
@@ -34,10 +40,10 @@ struct Script {
   std::string where(const ScriptCommand& c) const { return path + ":" + std::to_string(c.line); }
 };
 
-// Parses script text; throws std::runtime_error "PATH:LINE: ..." for an unknown command or a wrong
-// number or form of arguments (option keys and values are checked when the command runs).
+// Parses script text; throws ScriptError "PATH:LINE: ..." for an unknown command or a wrong number
+// or form of arguments (option keys and values are checked when the command runs).
 Script parse_script(const std::string& text, const std::string& path);
-// Reads and parses a script file (a missing file is std::runtime_error naming it).
+// Reads and parses a script file (a missing file is a ScriptError naming it).
 Script load_script(const std::string& path);
 
 // Number parsing shared by the script and the panels: the whole word must be the number.

@@ -15,7 +15,7 @@ ScriptRunner::Step ScriptRunner::step(const std::function<void(const std::string
     waiting_ = false;
     if (waiting_reference_) session_.poll_reference();
     const std::string err = session_.error();
-    if (!err.empty()) throw std::runtime_error(where() + ": render failed: " + err);
+    if (!err.empty()) throw ScriptError(where() + ": render failed: " + err);
   }
   while (next_ < script_.commands.size()) {
     const ScriptCommand& c = script_.commands[next_++];
@@ -26,7 +26,7 @@ ScriptRunner::Step ScriptRunner::step(const std::function<void(const std::string
       }
       run(c, screenshot);
     } catch (const std::exception& e) {
-      throw std::runtime_error(script_.where(c) + ": " + e.what());
+      throw ScriptError(script_.where(c) + ": " + e.what());
     }
     if (c.verb == "frames" || (c.verb == "reference" && c.args[0] == "wait")) {
       waiting_ = true;
@@ -52,8 +52,8 @@ void ScriptRunner::run(const ScriptCommand& c, const std::function<void(const st
   } else if (c.verb == "view") {
     const ViewMode m = a[0] == "error" ? ViewMode::error : a[0] == "split" ? ViewMode::split : ViewMode::radiance;
     if (m != ViewMode::radiance && !session_.reference())
-      throw std::runtime_error("view " + a[0] + (session_.has_reference() ? ": the --reference image is not the film's size"
-                                                                           : ": needs --reference FILE.exr"));
+      throw ScriptError("view " + a[0] + (session_.has_reference() ? ": the --reference image is not the film's size"
+                                                                    : ": needs --reference FILE.exr"));
     view_.mode = m;
   } else if (c.verb == "split") {
     parse_float(a[0], view_.split);
@@ -76,10 +76,10 @@ void ScriptRunner::run(const ScriptCommand& c, const std::function<void(const st
   } else if (c.verb == "reference") {
     ReferenceSettings r = session_.reference_settings();
     if (a[0] == "wait") {
-      if (!r.on || r.target_spp == 0) throw std::runtime_error("reference wait: no background reference with a target (reference on SPP)");
+      if (!r.on || r.target_spp == 0) throw ScriptError("reference wait: no background reference with a target (reference on SPP)");
       return;
     }
-    if (session_.has_reference_file()) throw std::runtime_error("reference: the viewer has a --reference image");
+    if (session_.has_reference_file()) throw ScriptError("reference: the viewer has a --reference image");
     r.on = a[0] == "on";
     if (r.on) r.target_spp = 4096;
     if (a.size() == 2) parse_int(a[1], r.target_spp);

@@ -21,7 +21,7 @@ class ScriptRunner {
   ScriptRunner(Script script, Session& session, ViewState& view) : script_(std::move(script)), session_(session), view_(view) {}
 
   // Runs commands until one must wait. `screenshot(base)` writes the screenshot files.
-  // Throws std::runtime_error "FILE:LINE: message" for a command that fails (a bad option value,
+  // Throws ScriptError "FILE:LINE: message" for a command that fails (a bad option value,
   // a view that needs a missing reference, an output refused, a render error).
   Step step(const std::function<void(const std::string& base)>& screenshot);
   // The command being run, for error messages ("FILE:LINE").

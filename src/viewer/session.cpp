@@ -183,7 +183,7 @@ void Session::play_camera_path() {
     load_camera_path(options_.render.camera_path, path);
   } else {
     std::lock_guard lk(m_);
-    if (recorded_.empty()) throw std::runtime_error("play: no camera path: set render.camera_path or record one");
+    if (recorded_.empty()) throw ViewerError("play: no camera path: set render.camera_path or record one");
     path.keys.clear();
     for (const PathKey& k : recorded_) path.keys.push_back(key_of(k));
   }
@@ -233,7 +233,7 @@ void Session::save_camera_path(const std::string& path) const {
     std::lock_guard lk(m_);
     keys = recorded_;
   }
-  if (keys.empty()) throw std::runtime_error("record save '" + path + "': no camera keys recorded (record start, render, record stop)");
+  if (keys.empty()) throw ViewerError("record save '" + path + "': no camera keys recorded (record start, render, record stop)");
   check_outputs({{path, "camera path", {".json"}}}, inputs());
   write_text_file_atomic(path, camera_path_json(keys));
 }
@@ -354,7 +354,7 @@ void Session::clear_error() {
 
 void Session::screenshot(const std::string& base, const Image& hdr, const Image& ldr, const FrameReadout& r,
                          const std::string& view_json) const {
-  if (hdr.empty()) throw std::runtime_error("screenshot '" + base + "': no frame rendered yet");
+  if (hdr.empty()) throw ViewerError("screenshot '" + base + "': no frame rendered yet");
   std::filesystem::path p(base);
   if (p.extension() == ".exr" || p.extension() == ".png") p.replace_extension();
   const std::string stem = p.string();

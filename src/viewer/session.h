@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,6 +26,12 @@
 #include "viewer/option_model.h"
 
 namespace rl::viewer {
+
+// A viewer action that cannot be carried out: no window, no frame rendered yet, no camera keys,
+// a render that failed under --bench.
+struct ViewerError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class BackgroundReference;
 

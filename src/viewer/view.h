@@ -6,7 +6,8 @@
 namespace rl::viewer {
 
 // Opens the window and runs until it is closed, the script ends (--script) or the bench is done
-// (--bench). Throws std::runtime_error / OptionError for bad input (one line, naming the file).
+// (--bench). Throws SceneError / OptionError / ScriptError for bad input (one line, naming the
+// file), ViewerError when there is no window.
 int run_view(const ViewArgs& args);
 
 }  // namespace rl::viewer

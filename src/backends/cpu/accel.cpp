@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "backends/backend_error.h"
 #include "core/parallel.h"
 
 namespace rl {
@@ -24,13 +25,13 @@ struct Accel::Impl {
 namespace {
 void check_device(RTCDevice device, const char* what) {
   RTCError err = rtcGetDeviceError(device);
-  if (err != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error while ") + what + " (code " + std::to_string(int(err)) + ")");
+  if (err != RTC_ERROR_NONE) throw BackendError(std::string("Embree error while ") + what + " (code " + std::to_string(int(err)) + ")");
 }
 }  // namespace
 
 Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("threads=0");  // Embree builds with TBB's arena, no threads of its own
-  if (!impl_->device) throw std::runtime_error("cannot create the Embree device");
+  if (!impl_->device) throw BackendError("cannot create the Embree device");
   impl_->scene = rtcNewScene(impl_->device);
   // An animated scene gets Embree's two-level structure (scene quality LOW), in which each
   // geometry has its own BVH built at its own quality: HIGH for what stands still, REFIT for what
@@ -61,7 +62,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(impl_->scene, g);
     rtcReleaseGeometry(g);
-    if (id != mi) throw std::runtime_error("unexpected Embree geometry id");
+    if (id != mi) throw BackendError("unexpected Embree geometry id");
   }
   if (!scene.spheres.empty()) {
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -79,7 +80,7 @@ Accel::Accel(const Scene& scene) : scene_(scene), impl_(std::make_unique<Impl>()
     rtcCommitGeometry(g);
     unsigned id = rtcAttachGeometry(impl_->scene, g);
     rtcReleaseGeometry(g);
-    if (id != sphere_geom()) throw std::runtime_error("unexpected Embree geometry id");
+    if (id != sphere_geom()) throw BackendError("unexpected Embree geometry id");
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the BVH");

@@ -115,12 +115,12 @@ std::string cuda_device_description() {
 }
 
 std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene) {
-  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
+  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw BackendError(why);
   return std::make_unique<CudaQueries>(scene);
 }
 
 CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats) {
-  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw std::runtime_error(why);
+  if (std::string why = cuda_unavailable_reason(); !why.empty()) throw BackendError(why);
   check(cudaSetDevice(0), "selecting device 0");
   cuda::DeviceStore store;
   const BvhView view = cuda::upload_bvh(store, build_bvh(scene));

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "backends/backend_error.h"
 #include "scene/ray_queries.h"
 #include "scene/scene.h"
 
@@ -18,7 +19,7 @@ bool cuda_backend_built();
 std::string cuda_unavailable_reason();
 // Name and memory of device 0 ("NVIDIA H200, 139 GiB"), or the reason there is none.
 std::string cuda_device_description();
-// The scene's ray queries on CUDA device 0. Throws std::runtime_error with the reason when the
+// The scene's ray queries on CUDA device 0. Throws BackendError with the reason when the
 // backend or a device is missing. The scene must outlive the queries (update() re-reads it).
 std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene);
 

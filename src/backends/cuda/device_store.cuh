@@ -8,12 +8,13 @@
 #include <utility>
 #include <vector>
 
+#include "backends/backend_error.h"
 #include "backends/bvh.h"
 
 namespace rl::cuda {
 
 inline void check(cudaError_t e, const char* what) {
-  if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA error while ") + what + ": " + cudaGetErrorString(e));
+  if (e != cudaSuccess) throw BackendError(std::string("CUDA error while ") + what + ": " + cudaGetErrorString(e));
 }
 
 // A device array that grows and never shrinks: batches and frames reuse it (ARCHITECTURE.md:

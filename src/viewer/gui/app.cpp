@@ -208,7 +208,7 @@ struct Window {
       else glfw_error = msg;
     });
     if (!glfwInit())
-      throw std::runtime_error("view: cannot open a window: " + glfw_error + " (set DISPLAY, or run under xvfb-run)");
+      throw ViewerError("view: cannot open a window: " + glfw_error + " (set DISPLAY, or run under xvfb-run)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -216,7 +216,7 @@ struct Window {
     w = glfwCreateWindow(width, height, "restir view", nullptr, nullptr);
     if (!w) {
       glfwTerminate();
-      throw std::runtime_error("view: cannot create an OpenGL 3.3 window: " + glfw_error);
+      throw ViewerError("view: cannot create an OpenGL 3.3 window: " + glfw_error);
     }
     glfw_open = true;
     glfwMakeContextCurrent(w);
@@ -255,7 +255,7 @@ struct Window {
 
 void Gui::save_screenshot(const std::string& base) {
   session.take_frame(view.accumulate, true, hdr, readout);
-  if (hdr.empty()) throw std::runtime_error("screenshot: no frame rendered yet");
+  if (hdr.empty()) throw ViewerError("screenshot: no frame rendered yet");
   const OutputOptions& out = session.options().output;
   ldr = compose_view(view.mode, hdr, session.reference(), out, view.split);
   // The window shows this very frame; on the GPU path, check the shader against tonemap_pixel.
@@ -397,7 +397,7 @@ BenchTime bench_viewer(Gui& g, int n, int round) {
   while (g.session.frames_completed() < before + n + 1) {
     ui_iteration(g, 0, false);
     if (t0 < 0 && g.session.frames_completed() > before) t0 = now_s(), c0 = cpu_s(), cost0 = g.cost;
-    if (!g.session.error().empty()) throw std::runtime_error("bench: " + g.session.error());
+    if (!g.session.error().empty()) throw ViewerError("bench: " + g.session.error());
   }
   const BenchTime t{(now_s() - t0) * 1000 / n, (cpu_s() - c0) * 1000 / n};
   const UiCost& c = g.cost;
