@@ -1,6 +1,7 @@
 // One pixel of the temporal and of the spatial reuse pass shared by the ReSTIR integrators,
-// RESTIR_HD over flat buffers: the CPU's passes (reuse_passes.h) run them in a loop over the
-// pixels, the CUDA backend's kernels one thread per pixel. They own the pixel bookkeeping --
+// RESTIR_HD over flat buffers: the one reservoir chain (reservoir_chain.h) runs them through its
+// backend's policy -- a loop over the pixels on the host, one thread per pixel in the CUDA
+// backend's kernels. They own the pixel bookkeeping --
 // reprojection, neighbour choice, similarity rejection, M-cap, debug counters -- and hand the
 // resampling to restir::combine() through the integrator's bridge, made per pixel from the
 // surfaces of the inputs (index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).

@@ -20,6 +20,15 @@ namespace {
 
 using Fixture = PtFixture;
 
+// The path tracer's reference for ReSTIR PT options o: one frame of 2048 spp, o's path length.
+Options path_traced(const Options& o) {
+  Options r = o;
+  r.integrator = "pt";
+  r.render.spp = 2048;
+  r.render.frames = 1;
+  return only_read_keys(r);
+}
+
 bool close_rgb(Rgb a, Rgb b, float rel) {
   for (int c = 0; c < 3; ++c)
     if (std::fabs(a[c] - b[c]) > rel * std::max({std::fabs(a[c]), std::fabs(b[c]), 1e-6f})) return false;
@@ -432,13 +441,7 @@ TEST_SUITE("slow") {
       set_option(o, "pt.shift", c.shift);
       set_option(o, "pt.spatial_mis", c.mis);
       set_option_assignment(o, c.extra);
-      Options ref = o;
-      ref.integrator = "pt";
-      ref.path.max_depth = 3;
-      ref.render.spp = 2048;
-      ref.render.frames = 1;
-      ref = test::only_read_keys(ref);
-      BlockStats st = compare_to_reference(scene, o, ref, 20, 4, 4.5);
+      BlockStats st = compare_to_reference(scene, o, path_traced(o), 20, 4, 4.5);
       CAPTURE(c.scene);
       CAPTURE(c.shift);
       CAPTURE(c.mis);
@@ -457,13 +460,7 @@ TEST_SUITE("slow") {
     Scene scene = load_scene(own_scene("teapot.pbrt"));
     Options o = options_for(scene, {"integrator=restir-pt", "render.spp=1", "render.frames=6", "render.sample_pattern=center",
                                     "path.max_depth=3", "film.width=80", "film.height=45"});
-    Options ref = o;
-    ref.integrator = "pt";
-    ref.path.max_depth = 3;
-    ref.render.spp = 2048;
-    ref.render.frames = 1;
-    ref = test::only_read_keys(ref);
-    const Image reference = render(scene, ref).last;
+    const Image reference = render(scene, path_traced(o)).last;
     auto error = [&](const char* shift) {
       double sum = 0;
       for (uint64_t seed : {1, 2, 3, 4, 5, 6}) {  // average a few independent sequences
