@@ -11,7 +11,11 @@ and the base's own mean. KEY may join columns with "+" (integrator+render.spp, B
 compare configurations that differ in more than one column.
     scripts/study_paired.py OUT/results.csv KEY BASE [--metrics=ms_median,relmse,flip] [--where=K=V ...]
 --where keeps only the rows whose column K is V (e.g. --where=integrator=restir-pt where another
-integrator's rows share KEY's values); each (scene, KEY value) must then name one configuration."""
+integrator's rows share KEY's values); each (scene, KEY value) must then name one configuration.
+report.html computes the same analysis itself ("Paired comparison against the baseline", src/study/
+paired.cpp): every configuration against the study's "baseline" (or each scene's first configuration),
+per metric, with a verdict. This script stays for what the report does not do: another base, a KEY
+of joined columns, --where."""
 import csv
 import math
 import os

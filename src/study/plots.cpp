@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "image/image_io.h"
+#include "study/paired.h"
 
 namespace rl::study {
 namespace fs = std::filesystem;
@@ -44,11 +45,7 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
-namespace {
-bool selected(const PlotSpec& p, const Row& r) { return r.matches(p.where); }
-
-// Whether the row's integrator reads option `key` (its prefix names who reads it).
-bool relevant(const std::string& key, const Row& r) {
+bool reads_option(const std::string& key, const Row& r) {
   const std::string in = r.option("integrator");
   auto prefix = [&](const char* p) { return key.rfind(p, 0) == 0; };
   if (in.empty()) return true;  // rows without an integrator column (tests, hand-made rows)
@@ -60,6 +57,33 @@ bool relevant(const std::string& key, const Row& r) {
   return true;
 }
 
+namespace {
+bool selected(const PlotSpec& p, const Row& r) { return r.matches(p.where); }
+
+// Each configuration's point tag on an equal-time plot: "spp=4" for the keys that tell the
+// configurations apart (less the series keys, which the legend names), the scene's name first
+// where the points span several scenes and the series are not the scenes.
+std::map<std::string, std::string> point_tags(const std::map<std::string, std::vector<const Row*>>& rows_of,
+                                              const std::string& series_key) {
+  std::vector<std::vector<const Row*>> groups;
+  std::set<std::string> scenes;
+  for (const auto& [config, rs] : rows_of) groups.push_back(rs), scenes.insert(rs.front()->scene);
+  const auto series_keys = split_keys(series_key);
+  std::vector<std::string> keys;
+  for (const auto& k : distinguishing_keys(groups))
+    if (std::find(series_keys.begin(), series_keys.end(), k) == series_keys.end()) keys.push_back(k);
+  const bool name_scene = scenes.size() > 1 && std::find(series_keys.begin(), series_keys.end(), "scene") == series_keys.end();
+  std::map<std::string, std::string> tags;
+  for (const auto& [config, rs] : rows_of) {
+    std::string tag = name_scene ? scene_name(rs.front()->scene) : "";
+    for (const auto& k : keys)
+      if (reads_option(k, *rs.front()))
+        tag += (tag.empty() ? "" : " ") + k.substr(k.rfind('.') + 1) + "=" + rs.front()->option(k);
+    tags[config] = tag;
+  }
+  return tags;
+}
+
 // x is a metric: one point per configuration (and scene) of each series, at the means over its
 // seeds, the points of a series in order of x.
 std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<Row>& rows,
@@ -67,6 +91,7 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
   std::vector<std::string> series_order;
   std::map<std::string, std::string> labels;
   std::map<std::string, std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>> groups;
+  std::map<std::string, std::vector<const Row*>> rows_of;  // config|scene -> its rows
   for (const auto& r : rows) {
     const double x = r.metric(p.x), y = r.metric(p.y);
     if (!selected(p, r) || !std::isfinite(x) || !std::isfinite(y)) continue;
@@ -75,7 +100,9 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
     auto& g = groups[sv][r.config + "|" + r.scene];
     g.first.push_back(x);
     g.second.push_back(y);
+    rows_of[r.config + "|" + r.scene].push_back(&r);
   }
+  const std::map<std::string, std::string> tags = point_tags(rows_of, p.series);
   std::vector<PlotSeries> out;
   for (const auto& sv : series_order) {
     PlotSeries s;
@@ -85,6 +112,7 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
       pt.xpos = stat_of(xy.first).mean;
       pt.x = fmt::format("{:.4g}", pt.xpos);
       pt.y = stat_of(xy.second);
+      pt.tag = tags.at(config);
       s.points.push_back(pt);
     }
     std::sort(s.points.begin(), s.points.end(), [](const auto& a, const auto& b) { return a.xpos < b.xpos; });
@@ -93,18 +121,19 @@ std::vector<PlotSeries> aggregate_metric_x(const PlotSpec& p, const std::vector<
   return out;
 }
 
+}  // namespace
+
 std::string scene_name(const std::string& scene) {
   const fs::path p(scene);
   // The shared scenes are folders of scene-v4.pbrt: name them by the folder.
   return p.stem() == "scene-v4" || p.stem() == "scene" ? p.parent_path().filename().string() : p.stem().string();
 }
-}  // namespace
 
 std::string series_label(const std::string& series_key, const Row& r,
                          const std::vector<std::pair<std::string, std::string>>& baseline) {
   std::string label;
   for (const auto& k : split_keys(series_key)) {
-    if (!relevant(k, r)) continue;
+    if (!reads_option(k, r)) continue;
     std::string v = k == "scene" ? scene_name(r.scene) : r.option(k);
     // max_history 0 means "no cap" (options.h); a legend saying "0" reads as a cap of zero.
     if (v == "0" && k.size() > 12 && k.compare(k.size() - 12, 12, ".max_history") == 0) v = "no cap";
@@ -221,6 +250,86 @@ std::string category_tics(const std::vector<PlotSeries>& series) {
 }
 }  // namespace
 
+AxisFit fit_axis(const std::vector<double>& values, bool want_log, double pad) {
+  AxisFit f;
+  std::vector<double> all, pos;
+  for (double v : values)
+    if (std::isfinite(v)) {
+      all.push_back(v);
+      if (v > 0) pos.push_back(v);
+    }
+  if (all.empty()) return f;
+  f.valid = true;
+  if (want_log && !pos.empty()) {
+    const auto [lo, hi] = std::minmax_element(pos.begin(), pos.end());
+    if (*hi > 10 * *lo) {  // more than a decade: a log axis shows the data, not blank decades
+      const double a = std::log10(*lo), b = std::log10(*hi), d = pad * (b - a);
+      f.log = true, f.min = std::pow(10.0, a - d), f.max = std::pow(10.0, b + d);
+      return f;
+    }
+  }
+  const auto [lo, hi] = std::minmax_element(all.begin(), all.end());
+  const double span = *hi - *lo, d = span > 0 ? pad * span : (*hi != 0 ? pad * std::fabs(*hi) : 1.0);
+  f.min = *lo >= 0 ? std::max(*lo - d, 0.0) : *lo - d;  // errors and times are not negative: no axis below 0
+  f.max = *hi + d;
+  return f;
+}
+
+std::string axis_commands(const std::string& axis, const AxisFit& f) {
+  if (!f.valid) return "";
+  return (f.log ? "set logscale " + axis + "\n" : std::string()) + fmt::format("set {}range [{:.6g}:{:.6g}]\n", axis, f.min, f.max);
+}
+
+std::string legend_title(const std::string& series_key) {
+  std::string t;
+  for (const auto& k : split_keys(series_key)) t += (t.empty() ? "" : " + ") + k;
+  return t;
+}
+
+namespace {
+// NAME.dat: one block per series (gnuplot "index"), tab separated; a sixth column, the point's tag.
+std::string plot_data(const Study& s, const PlotSpec& p, const std::vector<PlotSeries>& series) {
+  std::string dat = fmt::format("# study {}: {} over {}; mean and standard error over the pooled rows\n", s.name, p.y, p.x);
+  dat += "# x\tlabel\tmean\tstderr\tn\ttag\n";
+  for (const auto& ser : series) {
+    dat += "# " + ser.label + "\n";
+    for (const auto& pt : ser.points)
+      dat += fmt::format("{:.9g}\t{}\t{:.9g}\t{:.9g}\t{}\t{}\n", pt.xpos, pt.x, pt.y.mean, pt.y.stderr_, pt.y.n, pt.tag);
+    dat += "\n\n";
+  }
+  return dat;
+}
+
+// The axes fitted to what is drawn: error-bar ends on y, point positions on a numeric x (a
+// categorical x has its own range, category_tics). Equal-time plots get more room on the right
+// for the point tags.
+std::string fitted_axes(const PlotSpec& p, const std::vector<PlotSeries>& series, bool numeric) {
+  std::vector<double> xs, ys;
+  for (const auto& ser : series)
+    for (const auto& pt : ser.points) {
+      xs.push_back(pt.xpos);
+      ys.insert(ys.end(), {pt.y.mean, pt.y.mean - pt.y.stderr_, pt.y.mean + pt.y.stderr_});
+    }
+  return (numeric ? axis_commands("x", fit_axis(xs, p.logx, p.x_metric ? 0.12 : 0.05)) : category_tics(series)) +
+         axis_commands("y", fit_axis(ys, p.logy));
+}
+
+// The plot command: each series with its error bars; on an equal-time plot, each point's tag
+// beside it in its series' colour (explicit line types, so that the tags do not shift the colours).
+std::string plot_command(const PlotSpec& p, const std::vector<PlotSeries>& series, bool numeric) {
+  std::string cmd = "plot ", tags;
+  for (size_t i = 0; i < series.size(); ++i) {
+    cmd += fmt::format("{}{} index {} using 1:3:4 with {} lt {} lw 2 pt 7 title {}", i ? ", \\\n     " : "",
+                       i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i, numeric ? "yerrorlines" : "yerrorbars",
+                       i + 1, gp_quote(series[i].label));
+    const bool tagged = std::any_of(series[i].points.begin(), series[i].points.end(), [](const auto& pt) { return !pt.tag.empty(); });
+    if (p.x_metric && tagged)
+      tags += fmt::format(", \\\n     \"\" index {} using 1:3:6 with labels left offset char 0.7,0.6 tc lt {} notitle", i, i + 1);
+  }
+  return cmd + tags;
+}
+}  // namespace
+
 std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir, bool quick) {
   std::vector<PlotResult> results;
   fs::create_directories(plot_dir);
@@ -231,19 +340,8 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
     pr.title = p.title;
     bool numeric = true;
     auto series = aggregate(p, rows, &numeric, s.baseline);
-    // Data: one block per series (gnuplot "index"), tab separated.
-    std::string dat = fmt::format("# study {}: {} over {}; mean and standard error over the pooled rows\n", s.name, p.y, p.x);
-    dat += "# x\tlabel\tmean\tstderr\tn\n";
-    bool any = false;
-    for (const auto& ser : series) {
-      dat += "# " + ser.label + "\n";
-      for (const auto& pt : ser.points) {
-        dat += fmt::format("{:.9g}\t{}\t{:.9g}\t{:.9g}\t{}\n", pt.xpos, pt.x, pt.y.mean, pt.y.stderr_, pt.y.n);
-        any = true;
-      }
-      dat += "\n\n";
-    }
-    write_text_file_atomic((fs::path(plot_dir) / (p.name + ".dat")).string(), dat);
+    write_text_file_atomic((fs::path(plot_dir) / (p.name + ".dat")).string(), plot_data(s, p, series));
+    const bool any = std::any_of(series.begin(), series.end(), [](const auto& ser) { return !ser.points.empty(); });
 
     // A --quick run says so on every plot: its numbers are a smoke test, not evidence.
     const std::string title = (quick ? "[--quick smoke test: not evidence] " : "") + wrap_title(p.title);
@@ -257,16 +355,10 @@ std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows
         "set grid\nset key outside right top\nset bars small\nset offsets graph 0.04, graph 0.04, graph 0.02, graph 0.02\n",
         s.name, p.name, gp_quote(title), gp_quote(axis_label(p.x) + (p.x_metric ? ", mean over seeds" : "")),
         gp_quote(y_label + " (mean ± s.e. over seeds)"));
-    if (p.logx) gp += "set logscale x\n";
-    if (p.logy) gp += "set logscale y\n";
-    if (!numeric) gp += category_tics(series);
-    std::string plot_cmd = "plot ";
-    for (size_t i = 0; i < series.size(); ++i) {
-      if (i) plot_cmd += ", \\\n     ";
-      plot_cmd += fmt::format("{} index {} using 1:3:4 with {} lw 2 pt 7 title {}",
-                              i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i,
-                              numeric ? "yerrorlines" : "yerrorbars", gp_quote(series[i].label));
-    }
+    // A legend of bare values ("1", "3") says nothing without the key they are values of.
+    if (!p.series.empty()) gp += "set key title " + gp_quote(legend_title(p.series)) + "\n";
+    gp += fitted_axes(p, series, numeric);
+    std::string plot_cmd = plot_command(p, series, numeric);
     if (series.empty() || !any) plot_cmd = "set label 1 \"no data\" at graph 0.5, graph 0.5 center\nplot [0:1][0:1] NaN notitle";
     gp += fmt::format(
         "set terminal pngcairo size 900,540 noenhanced font \"sans,10\"\nset output {}\n{}\n"

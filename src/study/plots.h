@@ -25,6 +25,10 @@ struct PlotSeries {
     std::string x;
     double xpos = 0;
     Stat y;
+    // Equal-time plots (x a metric): what tells this point's configuration from the others, e.g.
+    // "spp=4" (the keys that differ, less the series keys; a key by its last component). The x
+    // position is a measured time there, so without it a reader cannot tell which point is which.
+    std::string tag;
   };
   std::vector<Point> points;
 };
@@ -40,11 +44,29 @@ std::vector<PlotSeries> aggregate(const PlotSpec& p, const std::vector<Row>& row
 // "no cap".
 std::string series_label(const std::string& series_key, const Row& r,
                          const std::vector<std::pair<std::string, std::string>>& baseline = {});
+// Whether the row's integrator reads option `key` (the key's prefix names who reads it, as above).
+bool reads_option(const std::string& key, const Row& r);
+// A scene as legends and verdicts name it: its file stem, or the folder of a shared scene-v4.pbrt.
+std::string scene_name(const std::string& scene);
 // Drops the integrator's name from labels that say more than it, when the labels stay distinct
 // ("restir-pt hybrid", "pt" -> "hybrid", "pt").
 void shorten_labels(std::vector<PlotSeries>& series, const std::string& series_key);
 // Axis text for a metric or key: what it is and its unit ("frame time (ms, median over frames)").
 std::string axis_label(const std::string& name);
+
+// An axis range fitted to the data (values: means and error-bar ends). Logarithmic only where
+// want_log and the positive values span more than a decade (a log axis over 1..2.5 shows a decade
+// of blank and squeezes the data); padded by `pad` of the span (of the decades on a log axis) on
+// each side, and not below 0 for data that is not. valid: there were finite values.
+struct AxisFit {
+  bool valid = false, log = false;
+  double min = 0, max = 1;
+};
+AxisFit fit_axis(const std::vector<double>& values, bool want_log, double pad = 0.05);
+// The gnuplot lines for one axis ("x" or "y"): logscale where fitted so, and the range.
+std::string axis_commands(const std::string& axis, const AxisFit& f);
+// The legend's title: the series key(s) the legend's values are values of ("a+b" as "a + b").
+std::string legend_title(const std::string& series_key);
 
 // quick: the study ran with --quick; every plot's title says it is a smoke test.
 std::vector<PlotResult> write_plots(const Study& s, const std::vector<Row>& rows, const std::string& plot_dir, bool quick = false);

@@ -16,6 +16,7 @@
 #include "core/build_info.h"
 #include "image/image_io.h"
 #include "study/images.h"
+#include "study/paired.h"
 
 namespace rl::study {
 namespace fs = std::filesystem;
@@ -84,13 +85,28 @@ std::string build_description() {
                      flip_available() ? "built in" : "not built (relative error maps instead)");
 }
 
-namespace {
-// Lower is better for every metric column but fps.
-bool better(const std::string& col, double a, double b) { return col == "fps" ? a > b : a < b; }
+std::map<std::string, std::string> resolved_best(const std::vector<Row>& rows, const std::string& metric, int last_frame) {
+  const std::vector<ConfigValues> cs = config_values(rows, metric, last_frame);
+  const bool lower = lower_is_better(metric);
+  std::map<std::string, std::vector<const ConfigValues*>> by_scene;
+  for (const auto& c : cs)
+    if (std::isfinite(c.mean())) by_scene[c.scene].push_back(&c);
+  std::map<std::string, std::string> out;
+  for (auto& [scene, v] : by_scene) {
+    if (v.size() < 2) continue;  // nothing to be best against
+    std::stable_sort(v.begin(), v.end(), [&](const ConfigValues* a, const ConfigValues* b) {
+      return lower ? a->mean() < b->mean() : a->mean() > b->mean();
+    });
+    if (v[0]->mean() == v[1]->mean()) continue;  // a tie at the top, or a constant column
+    if (compare(v[0]->values, v[1]->values).resolved) out[scene] = v[0]->config;
+  }
+  return out;
+}
 
+namespace {
 // One row per (scene, configuration): each metric's mean ± standard error over seeds at the last
-// frame; the best of each scene in bold; with a study "baseline", each metric relative to the
-// scene's first baseline configuration.
+// frame; a scene's best value in bold only where resolved_best says so; with a study "baseline",
+// each metric relative to the scene's first baseline configuration.
 std::string configuration_table(const Study& s, const std::vector<Row>& rows, const std::vector<ReportConfig>& configs) {
   const auto cols = metric_columns(s);
   const bool rel = !s.baseline.empty();
@@ -99,22 +115,21 @@ std::string configuration_table(const Study& s, const std::vector<Row>& rows, co
     if (r.frame == s.frames - 1) by_config[r.config].push_back(&r);
   std::map<std::string, std::map<std::string, Stat>> stats;  // config -> column -> stat
   std::map<std::string, std::string> baseline_of;             // scene -> its baseline configuration
-  std::map<std::string, std::map<std::string, double>> best;  // scene -> column -> best mean
+  std::map<std::string, std::map<std::string, std::string>> bold;  // column -> scene -> configuration
+  for (const auto& col : cols) bold[col] = resolved_best(rows, col, s.frames - 1);
   for (const auto& c : configs) {
     const auto& rs = by_config[c.config];
     if (rel && !rs.empty() && rs.front()->matches(s.baseline) && !baseline_of.count(c.scene)) baseline_of[c.scene] = c.config;
     for (const auto& col : cols) {
       std::vector<double> v;
       for (const Row* r : rs) v.push_back(r->metric(col));
-      const Stat st = stat_of(v);
-      stats[c.config][col] = st;
-      if (st.n == 0 || !std::isfinite(st.mean)) continue;
-      auto [it, fresh] = best[c.scene].emplace(col, st.mean);
-      if (!fresh && better(col, st.mean, it->second)) it->second = st.mean;
+      stats[c.config][col] = stat_of(v);
     }
   }
-  std::string h = "<h2>Configurations</h2>\n<p>Mean ± standard error over seeds at the last frame; the best value of each "
-                  "scene in bold";
+  std::string h = "<h2>Configurations</h2>\n<p>Mean ± standard error over seeds at the last frame. In bold: a scene's "
+                  "best value where it is resolved against the runner-up, i.e. the 95% confidence interval of their "
+                  "per-seed (paired) difference excludes 0; no bold: no configuration of that scene is resolved best "
+                  "(overlapping results, a constant column, or a value computed across seeds such as noise)";
   if (rel) {
     h += "; <i>÷ baseline</i>: the mean relative to the scene's baseline configuration (";
     for (const auto& [k, v] : s.baseline) h += fmt::format("<code>{}={}</code> ", esc(k), esc(v));
@@ -130,16 +145,71 @@ std::string configuration_table(const Study& s, const std::vector<Row>& rows, co
                      esc(c.scene), esc(values_text(c)), is_base ? " <b>(baseline)</b>" : "", c.config, by_config[c.config].size());
     for (const auto& col : cols) {
       const Stat& st = stats[c.config][col];
-      const bool top = st.n > 0 && std::isfinite(st.mean) && best[c.scene].count(col) && st.mean == best[c.scene][col];
+      const auto b = bold[col].find(c.scene);
+      const bool top = b != bold[col].end() && b->second == c.config;
       h += std::string(top ? "<td class=\"best\">" : "<td>") + fmt_stat(st) + "</td>";
       if (!rel) continue;
-      const Stat* b = baseline_of.count(c.scene) ? &stats[baseline_of[c.scene]][col] : nullptr;
-      const bool ok = b && b->n > 0 && st.n > 0 && b->mean != 0 && std::isfinite(b->mean) && std::isfinite(st.mean);
-      h += ok ? fmt::format("<td class=\"rel\">{:.3g}</td>", st.mean / b->mean) : std::string("<td class=\"rel\">–</td>");
+      const Stat* base = baseline_of.count(c.scene) ? &stats[baseline_of[c.scene]][col] : nullptr;
+      const bool ok = base && base->n > 0 && st.n > 0 && base->mean != 0 && std::isfinite(base->mean) && std::isfinite(st.mean);
+      h += ok ? fmt::format("<td class=\"rel\">{:.3g}</td>", st.mean / base->mean) : std::string("<td class=\"rel\">–</td>");
     }
     h += "</tr>\n";
   }
   return h + "</table>\n";
+}
+
+// A metric of the paired tables as a heading: "relmse", or "relmse × ms_median (equal time ...)".
+std::string metric_heading(const std::string& m) {
+  const auto star = m.find('*');
+  if (star == std::string::npos) return "<code>" + esc(m) + "</code>";
+  return fmt::format("<code>{}</code> × <code>{}</code> (equal time: for an error falling as 1/time, the lower "
+                     "product is the lower error at the same frame time)", esc(m.substr(0, star)), esc(m.substr(star + 1)));
+}
+
+// One table of paired_vs_baseline: each configuration against its scene's baseline.
+std::string paired_table(const PairedTable& t) {
+  std::string h = "<h3>" + metric_heading(t.metric) + "</h3>\n<table class=\"paired\">\n<tr><th class=\"l\">scene</th>"
+                  "<th class=\"l\">configuration</th><th class=\"l\">baseline</th><th>seeds</th><th>baseline mean</th>"
+                  "<th>mean difference<br>(configuration − baseline)</th><th>95% CI</th><th>mean ratio<br>"
+                  "(configuration / baseline)</th><th>95% CI</th><th class=\"l\">verdict</th></tr>\n";
+  for (const auto& r : t.rows) {
+    const ConfigValues &c = t.configs[r.config], &b = t.configs[r.base];
+    const Comparison& cmp = r.cmp;
+    auto ci = [&](const Interval& i) { return cmp.paired && i.n >= 2 ? fmt::format("[{}, {}]", num(i.lo()), num(i.hi())) : std::string("–"); };
+    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
+                     "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l {}\">{}</td></tr>\n",
+                     esc(scene_name(c.scene)), esc(c.label), esc(b.label), cmp.paired ? std::to_string(cmp.diff.n) : "unpaired",
+                     num(b.mean()), num(cmp.diff.mean), ci(cmp.diff), cmp.paired ? num(cmp.ratio.mean) : "–", ci(cmp.ratio),
+                     r.verdict == Verdict::NotResolved ? "unresolved" : verdict_text(r.verdict), verdict_text(r.verdict));
+  }
+  return h + "</table>\n";
+}
+
+// The paired analysis (paired.h): per metric, each configuration against the baseline.
+std::string paired_section(const Study& s, const std::vector<Row>& rows) {
+  std::string h = "<h2>Paired comparison against the baseline</h2>\n<p>Every configuration runs the same seeds, so the "
+                  "per-seed difference to the baseline cancels what a seed's images and timings have in common. For each "
+                  "metric at the last frame: the mean over seeds of <i>configuration − baseline</i> and of "
+                  "<i>configuration / baseline</i>, each with its 95% confidence interval (Student's t over the seeds). "
+                  "Verdict: <i>better</i> or <i>worse</i> where the interval of the difference excludes 0 (lower is "
+                  "better for every metric here), else <i>not resolved</i>: more seeds, or no difference. Baseline: ";
+  if (s.baseline.empty()) {
+    h += "the study names none (\"baseline\" in the study file), so each scene's first configuration";
+  } else {
+    h += "each scene's first configuration with";
+    for (const auto& [k, v] : s.baseline) h += fmt::format(" <code>{}={}</code>", esc(k), esc(v));
+  }
+  h += ". <code>scripts/study_paired.py</code> prints the same analysis from results.csv against any other key and "
+       "value.</p>\n";
+  bool any = false;
+  for (const auto& m : paired_metrics(s)) {
+    const PairedTable t = paired_vs_baseline(s, rows, m);
+    if (t.rows.empty()) continue;
+    h += paired_table(t);
+    any = true;
+  }
+  if (!any) h += "<p class=\"note\">Nothing to compare: each scene has one configuration.</p>\n";
+  return h;
 }
 
 // One <img> of images/NAME.png with the crop region outlined (crop_rect of the PNG's own size).
@@ -228,7 +298,8 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
        ".frame .box{position:absolute;border:1px solid #0ff;box-sizing:border-box}"
        ".plot img{max-width:900px;width:100%}.note{background:#fff7d6;padding:6px}"
        ".banner{background:#ffd7d7;border:2px solid #c00;padding:8px;font-weight:bold}td.best{font-weight:bold;background:#e3f5e3}"
-       "td.rel{color:#555}</style></head><body>\n";
+       "td.rel{color:#555}p.verdict{margin:2px 0 6px;font-style:italic}td.better{color:#060;font-weight:bold}"
+       "td.worse{color:#a00;font-weight:bold}td.unresolved{color:#777}</style></head><body>\n";
   std::time_t now = std::time(nullptr);
   char when[64];
   std::strftime(when, sizeof(when), "%Y-%m-%d %H:%M:%S", std::localtime(&now));
@@ -270,12 +341,17 @@ void write_report(const std::string& out_dir, const Study& s, const std::vector<
       h += fmt::format("<img src=\"plots/{0}.png\" alt=\"{1}\"><br>\n", esc(p.name), esc(p.title));
     else
       h += fmt::format("<p class=\"note\">not drawn: {}</p>\n", esc(p.message));
+    // The plot's conclusion in words, from the same rows (paired.h): what is best, and whether resolved.
+    const auto spec = std::find_if(s.plots.begin(), s.plots.end(), [&](const PlotSpec& ps) { return ps.name == p.name; });
+    if (spec != s.plots.end())
+      h += fmt::format("<p class=\"verdict\">{}</p>\n", esc(plot_verdict(*spec, rows, s.frames - 1)));
     h += fmt::format("<a href=\"plots/{0}.svg\">SVG</a> · <a href=\"plots/{0}.gp\">gnuplot script</a> · "
                      "<a href=\"plots/{0}.dat\">data</a></div>\n",
                      esc(p.name));
   }
 
   h += configuration_table(s, rows, configs);
+  h += paired_section(s, rows);
   // Base options of the study (what every configuration shares).
   if (!s.base.empty()) {
     h += "<p>Base options:";

@@ -270,6 +270,9 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
   s.dir = fs::absolute(fs::path(path)).parent_path().string();
   s.name = j.contains("name") ? j["name"].get<std::string>() : fs::path(path).stem().string();
   if (j.contains("description")) s.description = j["description"].get<std::string>();
+  // --quick without a quick block would rerun the full study (or resume it) and stamp its report
+  // "not evidence": refuse before anything is written.
+  if (quick && !j.contains("quick")) fail(path, fmt::format("study '{}' has no quick block (--quick needs one)", s.name));
   s.seeds = {1};
   parse_common(j, s, path);
   if (j.contains("combine")) {
