@@ -122,17 +122,22 @@ TEST_SUITE("study") {
     add(rows, "k", "1", {2.0, 2.1, 1.9, 2.05});
     add(rows, "k", "2", {1.0, 1.1, 0.9, 1.0});
     add(rows, "k", "3", {2.0, 2.3, 1.8, 2.1});
+    add(rows, "k", "1", {1.0, 2.0, 1.5, 1.2}, "relmse", "scenes/b.pbrt");  // overlapping: no bold in scene b
+    add(rows, "k", "2", {1.1, 1.9, 1.6, 1.0}, "relmse", "scenes/b.pbrt");
+    for (auto& r : rows) r.metrics["ms_median"] = 5.0, r.metrics["fps"] = 200.0;  // constant columns: no bold
     std::vector<ReportConfig> configs;
     for (const char* v : {"1", "2", "3"}) configs.push_back({std::string("c") + v, "scenes/a.pbrt", {{"k", v}}, false});
+    for (const char* v : {"1", "2"}) configs.push_back({std::string("c") + v, "scenes/b.pbrt", {{"k", v}}, false});
     PlotResult pr;
     pr.name = pr.title = "relmse";
     write_report(d.string(), s, rows, configs, {pr}, ReportInfo{});
     const std::string html = test::read_file(d / "report.html");
-    CHECK(count(html, "<td class=\"best\">") == 1);  // relmse of k=2; ms_median, fps are empty
+    CHECK(count(html, "<td class=\"best\">") == 1);  // relmse of k=2 in scene a, nothing else
     CHECK(html.find("Paired comparison against the baseline") != std::string::npos);
     CHECK(html.find("<td class=\"l better\">better</td>") != std::string::npos);             // k=2 vs k=1
     CHECK(html.find("<td class=\"l unresolved\">not resolved</td>") != std::string::npos);  // k=3 vs k=1
-    CHECK(html.find("<p class=\"verdict\">relmse: k=2 lowest (1), resolved vs k=1") != std::string::npos);
+    CHECK(html.find("<p class=\"verdict\">relmse: a: k=2 lowest (1), resolved vs k=1") != std::string::npos);
+    CHECK(html.find("; b: no resolved difference: k=2 lowest (1.4) vs k=1") != std::string::npos);
     fs::remove_all(d);
   }
 
