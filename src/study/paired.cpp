@@ -52,7 +52,7 @@ Comparison compare(const SeedValues& a, const SeedValues& b) {
   Comparison c;
   // Both constant over seeds: a value computed across seeds (noise), or one seed repeated; its
   // difference has no error estimate, however consistent it looks.
-  const bool measured = spread(a) || spread(b);
+  const bool measured = c.measured = spread(a) || spread(b);
   std::vector<double> d, r;
   for (const auto& [seed, x] : a) {
     auto it = b.find(seed);
@@ -174,6 +174,9 @@ PairedTable paired_vs_baseline(const Study& s, const std::vector<Row>& rows, con
 std::string num(double v) { return std::isfinite(v) ? fmt::format("{:.4g}", v) : std::string("–"); }
 
 std::string comparison_text(const Comparison& c, const ConfigValues& a, const ConfigValues& b) {
+  if (!c.measured)  // a zero-width "interval" would read as certainty
+    return fmt::format("difference {}; one value per configuration (computed across seeds): no confidence interval",
+                       num(c.diff.mean));
   if (c.paired)
     return fmt::format("difference {}, 95% CI [{}, {}], {} paired seeds", num(c.diff.mean), num(c.diff.lo()),
                        num(c.diff.hi()), c.diff.n);

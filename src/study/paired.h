@@ -43,6 +43,7 @@ struct Comparison {
   Interval diff;   // paired: mean and CI of a − b; unpaired: diff.mean = mean(a) − mean(b), no CI
   Interval ratio;  // paired only: mean and CI of a / b per seed
   bool paired = false, resolved = false;
+  bool measured = false;  // a or b varies over seeds (else: no uncertainty estimate at all)
 };
 Comparison compare(const SeedValues& a, const SeedValues& b);
 

@@ -310,7 +310,9 @@ std::string fitted_axes(const PlotSpec& p, const std::vector<PlotSeries>& series
       xs.push_back(pt.xpos);
       ys.insert(ys.end(), {pt.y.mean, pt.y.mean - pt.y.stderr_, pt.y.mean + pt.y.stderr_});
     }
-  return (numeric ? axis_commands("x", fit_axis(xs, p.logx, p.x_metric ? 0.12 : 0.05)) : category_tics(series)) +
+  // A point at x <= 0 has no place on a log axis: gnuplot would drop it silently.
+  const bool logx = p.logx && std::all_of(xs.begin(), xs.end(), [](double x) { return x > 0; });
+  return (numeric ? axis_commands("x", fit_axis(xs, logx, p.x_metric ? 0.12 : 0.05)) : category_tics(series)) +
          axis_commands("y", fit_axis(ys, p.logy));
 }
 

@@ -175,7 +175,7 @@ std::string paired_table(const PairedTable& t) {
   for (const auto& r : t.rows) {
     const ConfigValues &c = t.configs[r.config], &b = t.configs[r.base];
     const Comparison& cmp = r.cmp;
-    auto ci = [&](const Interval& i) { return cmp.paired && i.n >= 2 ? fmt::format("[{}, {}]", num(i.lo()), num(i.hi())) : std::string("–"); };
+    auto ci = [&](const Interval& i) { return cmp.paired && cmp.measured && i.n >= 2 ? fmt::format("[{}, {}]", num(i.lo()), num(i.hi())) : std::string("–"); };
     h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td>"
                      "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l {}\">{}</td></tr>\n",
                      esc(scene_name(c.scene)), esc(c.label), esc(b.label), cmp.paired ? std::to_string(cmp.diff.n) : "unpaired",

@@ -161,11 +161,22 @@ TEST_SUITE("study") {
     const std::string two = plot_verdict(p, rows, 0);
     CHECK(two.rfind("relmse: a: no resolved difference: pt.spatial_neighbors=3 lowest (1.4) vs pt.spatial_neighbors=5", 0) == 0);
     CHECK(two.find("; b: pt.spatial_neighbors=3 lowest (1.1), resolved vs pt.spatial_neighbors=5") != std::string::npos);
+    // Values computed across seeds (noise) have no interval: the line says so, no zero-width CI.
+    rows.clear();
+    add(rows, "k", "1", {2.0, 2.0}, "noise");
+    add(rows, "k", "2", {1.0, 1.0}, "noise");
+    p.y = "noise";
+    CHECK(plot_verdict(p, rows, 0) == "noise: no resolved difference: k=2 lowest (1) vs k=1 (2; difference -1; one value "
+                                      "per configuration (computed across seeds): no confidence interval)");
+    rows.clear();
+    add(rows, "pt.spatial_neighbors", "3", {1.1, 1.9, 1.6, 1.0});
+    add(rows, "pt.spatial_neighbors", "5", {1.0, 2.0, 1.5, 1.2});
+    p.y = "relmse";
     // Equal time: error x frame time decides.
     p.x = "ms_median";
     p.x_metric = true;
     for (auto& r : rows) r.metrics["ms_median"] = r.option("pt.spatial_neighbors") == "5" ? 0.1 : 1.0;
-    CHECK(plot_verdict(p, rows, 0).rfind("relmse*ms_median (equal time: relmse x frame time): a: pt.spatial_neighbors=5 lowest", 0) == 0);
+    CHECK(plot_verdict(p, rows, 0).rfind("relmse*ms_median (equal time: relmse x frame time): pt.spatial_neighbors=5 lowest", 0) == 0);
   }
 
   TEST_CASE("axes fitted to the data: log only over more than a decade, padded around min and max") {
