@@ -1,4 +1,4 @@
-// The `restir` command line: render, view, info, compare, options. Every error becomes one line
+// The `restir` command line: render, view, info, compare, tonemap, study, options, export-mitsuba. Every error becomes one line
 // "error: ..." on stderr and one exit status: 0 ok, 1 bad input or runtime error, 2 usage (bad
 // flags, missing arguments), 130 interrupted.
 #include <CLI/CLI.hpp>
@@ -10,8 +10,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include "cli.h"
 #include "backends/cuda/cuda_queries.h"
 #include "core/build_info.h"
 #include "core/io_error.h"
@@ -35,270 +37,19 @@
 #endif
 
 using namespace rl;
-namespace fs = std::filesystem;
+
+using namespace rl::cli;
 
 namespace {
-
-// A mistake in how the command was called (exit status 2), as opposed to bad input (1).
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// CLI11's own range validators print DBL_MAX in full and say "0 not in range 0.000000 to ...".
-CLI::Validator integer_in(int64_t lo, int64_t hi) {
-  return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
-        int64_t v = 0;
-        auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
-          return fmt::format("expected an integer in [{}, {}], got '{}'", lo, hi, text);
-        return {};
-      },
-      fmt::format("INT in [{}, {}]", lo, hi));
-}
-
-struct RenderArgs {
-  std::string scene, out, png, average, frame_dir, timings, config;
-  std::string integrator, res, tonemap;
-  int spp = 0, frames = 0, threads = -1;
-  int64_t seed = -1;
-  std::vector<std::string> sets;
-  bool quiet = false;
-};
-
-std::string one_line(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  std::replace(s.begin(), s.end(), '\r', ' ');
-  return s;
-}
-
-std::string replace_extension(const std::string& path, const char* ext) {
-  fs::path p(path);
-  p.replace_extension(ext);
-  return p.string();
-}
-
-// Every output of the render, checked (and its folder created) before the render starts.
-std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const Options& o) {
-  std::vector<OutputFile> outs;
-  if (!a.out.empty()) outs.push_back({a.out, "-o", {".exr"}});
-  if (!a.png.empty()) outs.push_back({a.png, "--png", {".png"}});
-  if (!a.average.empty()) outs.push_back({a.average, "--average", {".exr"}});
-  if (!a.timings.empty()) outs.push_back({a.timings, "--timings", {".csv"}});
-  if (!a.frame_dir.empty()) outs.push_back({a.frame_dir, "--frame-dir", {}, true});
-  const std::string main_out = !a.out.empty() ? a.out : (!a.png.empty() ? a.png : a.average);
-  std::string sidecar = main_out.empty() ? "" : replace_extension(main_out, ".json");
-  if (!sidecar.empty()) outs.push_back({sidecar, "the JSON sidecar of " + main_out, {".json"}, false, true});
-  std::vector<std::string> inputs = scene.input_files;
-  if (inputs.empty()) inputs.push_back(a.scene);
-  if (!a.config.empty()) inputs.push_back(a.config);
-  if (!o.render.camera_path.empty()) inputs.push_back(o.render.camera_path);
-  // The frame files DIR/frame_NNNN.exr must not be an input or another output either (checked by
-  // name: enumerating up to 100000 frame paths against every other path would be quadratic).
-  if (!a.frame_dir.empty()) {
-    std::vector<std::string> others = inputs;
-    for (const OutputFile& f : outs)
-      if (!f.directory) others.push_back(f.path);
-    for (const std::string& p : others) {
-      const fs::path pp(p);
-      const std::string name = pp.filename().string();
-      int f = -1;
-      if (std::sscanf(name.c_str(), "frame_%d.exr", &f) == 1 && f >= 0 && f < o.render.frames &&
-          name == fmt::format("frame_{:04d}.exr", f) &&
-          same_file(pp.parent_path().empty() ? "." : pp.parent_path().string(), a.frame_dir))
-        throw IoError(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
-    }
-  }
-  check_outputs(outs, inputs);
-  return sidecar;
-}
-
-void write_outputs(const std::string& exr, const std::string& png, const Image& img, const Options& o,
-                   const std::vector<std::pair<std::string, std::string>>& meta) {
-  if (!exr.empty()) write_exr(exr, img, meta);
-  if (!png.empty()) write_png(png, tonemap(img, o.output));
-}
-
-// --timings: one row per frame, its wall time and each stage's (stage_times.h); a stage a frame did
-// not run (e.g. temporal reuse on frame 0) is 0.
-std::string timings_csv(const RenderResult& r) {
-  const std::vector<std::string> names = stage_names(r.frame_stages);
-  std::string csv = "frame,ms";
-  for (const auto& n : names) csv += "," + n + "_ms";
-  csv += "\n";
-  for (size_t i = 0; i < r.frame_ms.size(); ++i) {
-    csv += fmt::format("{},{:.3f}", i, r.frame_ms[i]);
-    for (const auto& n : names) csv += fmt::format(",{:.3f}", i < r.frame_stages.size() ? r.frame_stages[i].of(n) : 0.0);
-    csv += "\n";
-  }
-  return csv;
-}
-
-int run_render(const RenderArgs& a) {
-  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
-    throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
-  Scene scene = load_scene(a.scene);
-  Options o;
-  apply_scene_hints(o, scene.hints);
-  if (!a.config.empty()) apply_options_file(o, a.config);
-  // Dedicated flags are shorthands for --set; they are applied after the config file.
-  if (!a.integrator.empty()) set_option(o, "integrator", a.integrator);
-  if (a.spp > 0) set_option(o, "render.spp", std::to_string(a.spp));
-  if (a.frames > 0) set_option(o, "render.frames", std::to_string(a.frames));
-  if (a.threads >= 0) set_option(o, "render.threads", std::to_string(a.threads));
-  if (a.seed >= 0) set_option(o, "render.seed", std::to_string(a.seed));
-  if (!a.tonemap.empty()) set_option(o, "output.tonemap", a.tonemap);
-  if (!a.res.empty()) {
-    auto x = a.res.find('x');
-    if (x == std::string::npos) throw OptionError("--res: expected WxH, got '" + a.res + "'");
-    set_option(o, "film.width", a.res.substr(0, x));
-    set_option(o, "film.height", a.res.substr(x + 1));
-  }
-  for (const auto& s : a.sets) set_option_assignment(o, s);
-  validate_options(o);
-  find_integrator(o.integrator);  // fail before any output if the name is unknown
-  const std::string sidecar = check_render_outputs(a, scene, o);
-
-  const std::string config_json = options_to_json(o, -1);
-  std::vector<std::pair<std::string, std::string>> meta = {
-      {"restir.version", rl::build_id()}, {"restir.scene", a.scene}, {"restir.config", config_json}};
-  if (!a.quiet) {
-    std::fprintf(stderr, "restir %s: %s, integrator %s, %dx%d, %d spp, %d frame(s)\n", rl::build_id(), a.scene.c_str(),
-                 o.integrator.c_str(), o.film.width, o.film.height, o.render.spp, o.render.frames);
-  }
-  RenderHooks hooks;
-  hooks.progress_bar = !a.quiet;
-  hooks.on_frame = [&](int f, const Image& img, double ms) {
-    if (!a.quiet && o.render.frames > 1) std::fprintf(stderr, "\r\033[Kframe %d: %.1f ms\n", f, ms);
-    if (!a.frame_dir.empty()) {
-      auto m = meta;
-      m.emplace_back("restir.frame", std::to_string(f));
-      write_exr(fmt::format("{}/frame_{:04d}.exr", a.frame_dir, f), img, m);
-    }
-  };
-  RenderResult r = render(scene, o, hooks);
-
-  write_outputs(a.out, a.png, r.last, o, meta);
-  if (!a.average.empty()) write_exr(a.average, r.average, meta);
-  if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r));
-  // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
-  // key lets a later run tell its own sidecar from a user's JSON file of the same name.
-  if (!sidecar.empty()) {
-    nlohmann::ordered_json side;
-    side[kSidecarMarker] = 1;
-    side["version"] = rl::build_id();
-    side["scene"] = a.scene;
-    side["config"] = nlohmann::ordered_json::parse(config_json);
-    side["frame_ms"] = r.frame_ms;
-    nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-    for (const StageTimes& st : r.frame_stages) {
-      nlohmann::ordered_json one = nlohmann::ordered_json::object();
-      for (const auto& [name, ms] : st.ms) one[name] = ms;
-      stages.push_back(std::move(one));
-    }
-    side["stage_ms"] = std::move(stages);
-    write_text_file_atomic(sidecar, side.dump(2) + "\n");
-  }
-  if (!a.quiet) {
-    double total = 0;
-    for (double ms : r.frame_ms) total += ms;
-    std::fprintf(stderr, "rendered %d frame(s) in %.1f ms (%.1f ms/frame)\n", o.render.frames, total,
-                 total / double(r.frame_ms.size()));
-  }
-  return 0;
-}
-
-struct ExportArgs {
-  std::string scene, out, config;
-  std::vector<std::string> sets;
-};
-
-// The options a `render` of the same scene would use (scene hints < --config < --set), so that
-// resolution, spp, filter and max depth in the export are the effective ones.
-int run_export_mitsuba(const ExportArgs& a) {
-  Scene scene = load_scene(a.scene);
-  Options o;
-  apply_scene_hints(o, scene.hints);
-  if (!a.config.empty()) apply_options_file(o, a.config);
-  for (const auto& s : a.sets) set_option_assignment(o, s);
-  validate_options(o);
-  Camera camera = scene.camera;
-  if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
-  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
-  MitsubaExportSettings s;
-  s.width = o.film.width;
-  s.height = o.film.height;
-  s.spp = o.render.spp;
-  s.max_depth = o.path.max_depth;
-  s.filter = format_value(o.film.filter);
-  s.filter_radius = o.film.filter_radius;
-  s.camera = camera.at_frame(o.render.frames - 1, o.render.frames);  // the frame `render -o` writes
-  for (const std::string& n : export_mitsuba(scene, s, a.out)) std::fprintf(stderr, "note: %s\n", n.c_str());
-  fmt::print("{}/scene.xml: {}x{}, {} spp, Mitsuba max_depth {} (path.max_depth {})\n", a.out, s.width, s.height,
-             s.spp, s.max_depth + 1, s.max_depth);
-  return 0;
-}
-
-int run_info(const std::string& path) {
-  Scene scene = load_scene(path);
-  Lights lights(scene, LightSelection::power);
-  Bounds3 b = scene.bounds();
-  size_t emissive_meshes = 0;
-  for (const auto& m : scene.meshes) emissive_meshes += m.emission ? 1 : 0;
-  fmt::print("scene       {}\n", path);
-  fmt::print("meshes      {} ({} triangles, {} emissive meshes)\n", scene.meshes.size(), scene.triangle_count(), emissive_meshes);
-  fmt::print("spheres     {}\n", scene.spheres.size());
-  fmt::print("materials   {}\n", scene.materials.size());
-  fmt::print("textures    {}\n", scene.textures.size());
-  fmt::print("emitters    {} (point lights {}, environment {})\n", lights.emitter_count(), scene.point_lights.size(),
-             scene.environment ? (scene.environment->filename.empty() ? "constant" : scene.environment->filename) : "none");
-  fmt::print("bounds      ({:.4g}, {:.4g}, {:.4g}) - ({:.4g}, {:.4g}, {:.4g})\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
-  if (!scene.camera.keys.empty()) {
-    PerspectiveCamera cam(scene.camera.keys.front(), 16, 16);
-    Vec3 p = cam.position(), d = cam.forward();
-    fmt::print("camera      at ({:.4g}, {:.4g}, {:.4g}) looking ({:.3f}, {:.3f}, {:.3f}), fov {:.4g}, {} key(s)\n", p.x, p.y,
-               p.z, d.x, d.y, d.z, scene.camera.keys.front().fov_degrees, scene.camera.keys.size());
-  }
-  const SceneHints& h = scene.hints;
-  fmt::print("film        {}x{}, spp {}, max depth {}\n", h.width ? std::to_string(*h.width) : "-",
-             h.height ? std::to_string(*h.height) : "-", h.spp ? std::to_string(*h.spp) : "-",
-             h.max_depth ? std::to_string(*h.max_depth) : "-");
-  return 0;
-}
-
-// Display-referred (tone-mapped, sRGB 8-bit) files against scene-linear ones give meaningless metrics.
-bool display_referred(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp" || e == ".tga";
-}
-
-int run_compare(const std::string& a, const std::string& b, bool json) {
-  if (display_referred(a) != display_referred(b))
-    throw OptionError(fmt::format("compare: '{}' is {} but '{}' is {}: the metrics would be meaningless; compare "
-                                  "two linear images (EXR) or two tone-mapped ones", a,
-                                  display_referred(a) ? "tone-mapped (8-bit sRGB)" : "linear HDR", b,
-                                  display_referred(b) ? "tone-mapped (8-bit sRGB)" : "linear HDR"));
-  Image test = read_image(a), ref = read_image(b);
-  double m = mse(test, ref), r = rel_mse(test, ref), e = mean_abs_error(test, ref);
-  double lt = image_stats(test).mean_luminance, lr = image_stats(ref).mean_luminance;
-  if (json) {
-    fmt::print("{{\"mse\": {:.9g}, \"relmse\": {:.9g}, \"mae\": {:.9g}, \"mean_luminance_test\": {:.9g}, "
-               "\"mean_luminance_reference\": {:.9g}}}\n", m, r, e, lt, lr);
-  } else {
-    fmt::print("MSE     {:.6g}\nrelMSE  {:.6g}\nMAE     {:.6g}\nmean luminance  test {:.6g}  reference {:.6g}\n", m, r, e,
-               lt, lr);
-  }
-  return 0;
-}
 
 // Every subcommand, and where CLI11 stores its arguments (it binds them by reference: a Commands
 // must stay where it is from the first add_* to the last run).
 struct Commands {
   RenderArgs ra;
   std::string info_scene;
-  std::string cmp_a, cmp_b;
-  bool cmp_json = false;
+  CompareArgs cmp;
+  TonemapArgs tm;
+  std::string options_prefix;
   ExportArgs ea;
   viewer::ViewArgs va;
   study::StudyArgs sa;
@@ -307,7 +58,7 @@ struct Commands {
   bool slurm = false;
   study::SlurmArgs sl;
   CLI::App *render = nullptr, *info = nullptr, *compare = nullptr, *export_mi = nullptr, *view = nullptr,
-           *options = nullptr, *study_cmd = nullptr;
+           *options = nullptr, *study_cmd = nullptr, *tonemap = nullptr;
 };
 
 void add_render_command(CLI::App& app, Commands& c) {
@@ -337,9 +88,18 @@ void add_info_and_compare_commands(CLI::App& app, Commands& c) {
   c.info->add_option("scene", c.info_scene, "scene file")->required();
 
   auto* compare = c.compare = app.add_subcommand("compare", "error metrics of TEST against REFERENCE (MSE, relMSE, MAE)");
-  compare->add_option("test", c.cmp_a, "test image")->required();
-  compare->add_option("reference", c.cmp_b, "reference image")->required();
-  compare->add_flag("--json", c.cmp_json, "print JSON");
+  compare->add_option("test", c.cmp.test, "test image")->required();
+  compare->add_option("reference", c.cmp.reference, "reference image")->required();
+  compare->add_option("--error-map", c.cmp.error_map, "write the per-pixel FLIP error as a false-colour PNG with its scale bar");
+  compare->add_option("--crop", c.cmp.crop, "compare only the region X,Y,W,H (pixels; x right, y down from the top-left corner)");
+  compare->add_flag("--json", c.cmp.json, "print JSON");
+  compare->footer("relMSE is pbrt's (eps 0.01); FLIP is LDR-FLIP (Andersson et al. 2020) of the images tone-mapped as the test image\n"
+                  "was rendered (its EXR header), as a study computes it. Warns when the images' recorded configurations\n"
+                  "estimate different integrals (e.g. restir-di's direct light against a path-traced reference).");
+  auto* tonemap = c.tonemap = app.add_subcommand("tonemap", "write an EXR as a tone-mapped PNG (the tone mapping it was rendered with, or --set output.*)");
+  tonemap->add_option("input", c.tm.in, "linear image (.exr, .hdr)")->required();
+  tonemap->add_option("output", c.tm.out, "PNG to write")->required();
+  tonemap->add_option("--set", c.tm.sets, "output.tonemap, output.exposure, output.white_point, output.srgb (key=value)");
 }
 
 void add_export_command(CLI::App& app, Commands& c) {
@@ -398,10 +158,10 @@ void add_study_command(CLI::App& app, Commands& c) {
 // Usage errors: one line, exit status 2 (not CLI11's 104-114), a pointer to --help.
 int usage_error(const CLI::ParseError& e, int argc, char** argv) {
   std::string msg = e.what();
-  const char* commands = "render, view, info, compare, study, options";
+  const char* commands = "render, view, info, compare, tonemap, study, options, export-mitsuba";
   if (argc <= 1) msg = fmt::format("a command is required ({})", commands);
   else if (argv[1][0] != '-' &&
-           std::string(" render view info compare study options ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
+           std::string(" render view info compare tonemap study options export-mitsuba ").find(" " + std::string(argv[1]) + " ") == std::string::npos)
     msg = fmt::format("unknown command '{}' (commands: {})", argv[1], commands);
   std::replace(msg.begin(), msg.end(), '\n', ' ');
   std::fprintf(stderr, "error: %s; see `restir --help`\n", msg.c_str());
@@ -427,7 +187,13 @@ int run_study_command(Commands& c) {
   return study::run_study(sa);
 }
 
-int run_options() {
+// `restir options [PREFIX]`: the integrators and every option, or the options whose key starts
+// with PREFIX ("pt.", "render.spp").
+int run_options(const std::string& prefix) {
+  if (!prefix.empty()) {
+    fmt::print("{}", options_help(prefix));
+    return 0;
+  }
   std::string integrators;
   for (const auto& i : integrator_registry()) integrators += fmt::format("  {:<12} {}\n", i.name, i.description);
   fmt::print("Integrators:\n{}\n{}", integrators, options_help());
@@ -439,7 +205,8 @@ int run_command(Commands& c) {
   if (*c.render) return run_render(c.ra);
   if (*c.info) return run_info(c.info_scene);
   if (*c.export_mi) return run_export_mitsuba(c.ea);
-  if (*c.compare) return run_compare(c.cmp_a, c.cmp_b, c.cmp_json);
+  if (*c.compare) return run_compare(c.cmp);
+  if (*c.tonemap) return run_tonemap(c.tm);
   if (*c.view) {
 #ifdef RESTIR_HAVE_VIEWER
     return viewer::run_view(c.va);
@@ -449,7 +216,7 @@ int run_command(Commands& c) {
 #endif
   }
   if (*c.study_cmd) return run_study_command(c);
-  if (*c.options) return run_options();
+  if (*c.options) return run_options(c.options_prefix);
   return 0;
 }
 
@@ -470,6 +237,7 @@ int main(int argc, char** argv) {
   add_export_command(app, c);
   add_view_command(app, c);
   c.options = app.add_subcommand("options", "list every option key with its type, default and meaning");
+  c.options->add_option("prefix", c.options_prefix, "only the keys that start with PREFIX (e.g. pt. or render.spp)");
   add_study_command(app, c);
 
   try {
@@ -493,3 +261,26 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+
+namespace rl::cli {
+
+// CLI11's own range validators print DBL_MAX in full and say "0 not in range 0.000000 to ...".
+CLI::Validator integer_in(int64_t lo, int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        int64_t v = 0;
+        auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
+          return fmt::format("expected an integer in [{}, {}], got '{}'", lo, hi, text);
+        return {};
+      },
+      fmt::format("INT in [{}, {}]", lo, hi));
+}
+
+std::string one_line(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  std::replace(s.begin(), s.end(), '\r', ' ');
+  return s;
+}
+
+}  // namespace rl::cli

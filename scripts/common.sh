@@ -35,10 +35,24 @@ install_optional_packages() {
   fi
 }
 
-# build DIR [extra cmake args...]
-build() {
+# configure DIR [extra cmake args...]
+configure() {
   local dir="$1"
   shift
   cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+}
+
+# build DIR [extra cmake args...]: configure and build every target (tests, benchmarks, and the CUDA
+# backend where nvcc is installed). -URESTIR_CUDA forgets a choice the main job cached, so the test
+# command builds the CUDA backend wherever CMake finds nvcc, GPU or not.
+build() {
+  local dir="$1"
+  shift
+  configure "$dir" -URESTIR_CUDA "$@"
   cmake --build "$dir" -j "$(nproc)"
+}
+
+# gpu_present: an NVIDIA GPU this machine can run on (nvidia-smi lists one).
+gpu_present() {
+  command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q '^GPU '
 }

@@ -1,8 +1,20 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, and renders the default scenes into out/.
+# The main job: installs what is missing, builds the `restir` binary (only it: scripts/test.sh builds
+# the tests and benchmarks), renders the default scenes into out/ and runs the default study.
 source "$(dirname "$0")/common.sh"
+START=$SECONDS
 install_missing_packages
-build "$ROOT/build"
+# The CUDA backend only for a GPU this machine has (its own architecture, not three), and none where
+# there is no GPU: compiling kernels nobody can run was most of a fresh machine's wait.
+if gpu_present && command -v nvcc >/dev/null 2>&1; then
+  echo "building the CUDA backend for this machine's GPU: $(nvidia-smi -L | head -n 1)"
+  configure "$ROOT/build" -DRESTIR_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=native
+else
+  echo "no NVIDIA GPU here (or no nvcc): building without the CUDA backend (render.backend=cuda will say so)"
+  configure "$ROOT/build" -DRESTIR_CUDA=OFF
+fi
+cmake --build "$ROOT/build" -j "$(nproc)" --target restir
+echo "built build/bin/restir in $((SECONDS - START)) s"
 OUT="${OUT:-$ROOT/out}"
 mkdir -p "$OUT"
 R="$ROOT/build/bin/restir"
@@ -24,5 +36,5 @@ done
 # enough that its answer holds (its verdict: docs/results/equal-time/RESULTS.md; a test checks the
 # conclusion). `restir study --list` lists the thesis' figures.
 "$R" study equal-time --out "$OUT/study-equal-time" -q
-echo "done: images in $OUT"
+echo "done in $((SECONDS - START)) s: images in $OUT"
 echo "study report: $OUT/study-equal-time/report.html"

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/suggest.h"
 #include "frame/integrator.h"
 
 namespace rl {
@@ -21,7 +22,10 @@ void set_option(Options& o, std::string_view key, std::string_view value) {
       if (key == old)
         throw OptionError("option '" + std::string(key) + "' was replaced by 'path." + std::string(key.substr(key.find('.') + 1)) +
                           "' (one setting for every integrator)");
-    throw OptionError("unknown option '" + std::string(key) + "' (see `restir options`)");
+    std::vector<std::string> keys;
+    for (auto& [k, v] : option_values(Options{})) keys.push_back(k);
+    std::string hint = did_you_mean(key, keys);
+    throw OptionError("unknown option '" + std::string(key) + "'" + (hint.empty() ? " (see `restir options`)" : hint));
   }
   if (std::find(o.explicit_keys.begin(), o.explicit_keys.end(), key) == o.explicit_keys.end()) o.explicit_keys.emplace_back(key);
 }
@@ -115,14 +119,70 @@ std::string options_to_json(const Options& o, int indent) {
   return j.dump(indent);
 }
 
-std::string options_help() {
+std::string options_help(std::string_view prefix) {
   OptionHelp h;
   Options defaults;
   visit_options(defaults, h);
   std::string s = "Options (set with --set key=value or a JSON --config file):\n";
-  for (const auto& l : h.lines)
-    s += fmt::format("  {:<26} {:<34} default {:<10} {}\n", l.key, "<" + l.type + ">", l.default_value, l.help);
+  std::vector<std::string> keys;
+  for (const auto& l : h.lines) {
+    keys.push_back(l.key);
+    if (l.key.starts_with(prefix))
+      s += fmt::format("  {:<26} {:<34} default {:<10} {}\n", l.key, "<" + l.type + ">", l.default_value, l.help);
+  }
+  if (std::none_of(keys.begin(), keys.end(), [&](const std::string& k) { return k.starts_with(prefix); }))
+  {
+    std::vector<std::string> heads;  // each key cut to the prefix's length: a misspelt prefix is near one
+    for (const std::string& k : keys) heads.push_back(k.substr(0, prefix.size()));
+    throw OptionError("no option key starts with '" + std::string(prefix) + "'" + did_you_mean(prefix, heads));
+  }
   return s;
+}
+
+bool is_explicit(const Options& o, std::string_view key) {
+  return std::find(o.explicit_keys.begin(), o.explicit_keys.end(), key) != o.explicit_keys.end();
+}
+
+std::pair<int, int> max_depth_range(std::string_view integrator) {
+  // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
+  if (integrator == "restir-pt" || integrator == "restir-gi") return {1, 64};
+  return {0, 1024};
+}
+
+std::vector<std::string> fit_defaults_to_integrator(Options& o, bool sequence) {
+  std::vector<std::string> notes;
+  // A value the scene file implied (not explicit) outside the integrator's range is brought inside
+  // it, saying so: the Cornell box's maxdepth 65 is a path tracer's "until absorbed", not a choice.
+  if (const auto [lo, hi] = max_depth_range(o.integrator);
+      !is_explicit(o, "path.max_depth") && (o.path.max_depth < lo || o.path.max_depth > hi)) {
+    const int fitted = std::clamp(o.path.max_depth, lo, hi);
+    notes.push_back(fmt::format("{} renders {} to {} bounces: path.max_depth {} (from the scene) becomes {}; "
+                                "set path.max_depth to choose", o.integrator, lo, hi, o.path.max_depth, fitted));
+    o.path.max_depth = fitted;
+  }
+  const bool restir = o.integrator.starts_with("restir-");
+  if (!sequence || !restir) return notes;
+  // ReSTIR reuses samples over the frames of a sequence (Bitterli et al. 2020, sec. 4): n samples
+  // per pixel in one frame would be n independent chains that never reuse over time. Unless told
+  // otherwise, render what a real-time renderer does: 1 sample per pixel per frame, a sequence.
+  const bool spp_set = is_explicit(o, "render.spp"), frames_set = is_explicit(o, "render.frames");
+  if (!spp_set && !frames_set) {
+    const int spp = o.render.spp;
+    o.render.spp = 1;
+    o.render.frames = std::max(o.render.frames, kRestirDefaultFrames);
+    notes.push_back(fmt::format("{} renders a sequence: 1 sample per pixel per frame, {} frames, the last one written "
+                                "(not {} spp in one frame); set render.spp and render.frames (--spp, --frames) to choose",
+                                o.integrator, o.render.frames, spp));
+  } else if (!spp_set && o.render.spp != 1) {
+    notes.push_back(fmt::format("{}: 1 sample per pixel per frame (not the {} spp the scene file asks); set render.spp to choose",
+                                o.integrator, o.render.spp));
+    o.render.spp = 1;
+  } else if (o.render.frames == 1 && o.render.spp > 1) {
+    notes.push_back(fmt::format("warning: {} with {} spp in 1 frame renders {} independent ReSTIR chains, with no temporal "
+                                "reuse; a sequence (--spp 1 --frames {}) is what ReSTIR is for",
+                                o.integrator, o.render.spp, o.render.spp, kRestirDefaultFrames));
+  }
+  return notes;
 }
 
 void validate_options(const Options& o) {
@@ -130,8 +190,10 @@ void validate_options(const Options& o) {
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
     throw OptionError(fmt::format("resolution {}x{} is too large (at most 64 megapixels)", o.film.width, o.film.height));
   // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
-  if ((o.integrator == "restir-pt" || o.integrator == "restir-gi") && (o.path.max_depth < 1 || o.path.max_depth > 64))
-    throw OptionError(fmt::format("path.max_depth = {}: {} renders 1 to 64 bounces", o.path.max_depth, o.integrator));
+  if (const auto [lo, hi] = max_depth_range(o.integrator); o.path.max_depth < lo || o.path.max_depth > hi)
+    throw OptionError(fmt::format("path.max_depth = {}: {} renders {} to {} bounces; set path.max_depth to a value in [{}, {}]{}",
+                                  o.path.max_depth, o.integrator, lo, hi, lo, hi,
+                                  hi < 1024 ? " (or --integrator pt for longer paths)" : ""));
   // No candidate at all: every ReSTIR DI pixel would be black, silently.
   if (o.integrator == "restir-di" && o.di.light_candidates == 0 && o.di.bsdf_candidates == 0)
     throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");

@@ -236,7 +236,7 @@ void visit_options(O& o, V& v) {
     "ReSTIR integrators: output a diagnostic instead of radiance: reservoir confidence M, reuse source of the final "
     "sample (0 = own, 1 = temporal, 2 = spatial), the fraction of reuse candidates rejected or whose shift failed, or "
     "(restir-pt) the reconnection vertex k of the final path (0 = none)");
-  v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting); pt, restir-gi and restir-pt (restir-di is depth 1)", Range{0, 1024});
+  v("path.max_depth", o.path.max_depth, "maximum path length in bounces (1 = direct lighting): 0 to 1024 for pt and ssr, 1 to 64 for restir-gi and restir-pt (restir-di is depth 1)", Range{0, 1024});
   v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex (pt, restir-gi, restir-pt)");
   v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7; pt, restir-gi, restir-pt)");
   v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling in pt (restir-pt's path tags use the balance heuristic)");
@@ -287,7 +287,21 @@ void apply_options_file(Options& o, const std::string& path);
 std::vector<std::pair<std::string, std::string>> option_values(const Options& o);
 // Flat JSON object of every option (the config echo written beside each output).
 std::string options_to_json(const Options& o, int indent = 2);
-std::string options_help();
+// Every option (key, type, default, meaning), or those whose key starts with `prefix`; a prefix no
+// key has is an OptionError.
+std::string options_help(std::string_view prefix = {});
+// Whether `key` was set explicitly (Options::explicit_keys).
+bool is_explicit(const Options& o, std::string_view key);
+// The path depths an integrator renders, inclusive (validate_options refuses the others).
+std::pair<int, int> max_depth_range(std::string_view integrator);
+// The sequence a ReSTIR integrator renders when neither render.spp nor render.frames is set.
+inline constexpr int kRestirDefaultFrames = 16;
+// Fits the values nobody set explicitly to o.integrator and returns one note per change (a line to
+// print; a "warning: " one changes nothing): a scene's max depth outside the integrator's range is
+// clamped into it; with `sequence` (a `restir render`), a ReSTIR integrator renders 1 spp per frame
+// and kRestirDefaultFrames frames unless render.spp or render.frames is explicit, and many spp in
+// one frame draws a warning.
+std::vector<std::string> fit_defaults_to_integrator(Options& o, bool sequence);
 // Checks relations between fields that ranges cannot express (pixel count, etc.), and that every
 // key set explicitly is one the integrator reads (check_option_groups, frame/integrator.h).
 void validate_options(const Options& o);

@@ -123,7 +123,9 @@ double percentile(std::vector<double> v, double q) {
 
 class Progress {
  public:
-  Progress(size_t total, bool enabled) : total_(total), enabled_(enabled && isatty(STDERR_FILENO)) {}
+  // On a terminal a bar redrawn in place; elsewhere (a log file, a Slurm log) one plain line per job,
+  // so that a long study is not silent and its log holds no escape codes.
+  Progress(size_t total, bool enabled) : total_(total), enabled_(enabled), bar_(enabled && isatty(STDERR_FILENO)) {}
   void step(const std::string& what) {
     std::lock_guard lock(mutex_);
     ++done_;
@@ -132,17 +134,20 @@ class Progress {
     double f = total_ ? double(done_) / double(total_) : 1;
     int filled = int(f * 30);
     double eta = done_ ? el * double(total_ - done_) / double(done_) : 0;
-    std::fprintf(stderr, "\r\033[K[%.*s%*s] %zu/%zu  %s  ETA %.0fs", filled, "##############################", 30 - filled, "",
-                 done_, total_, what.c_str(), eta);
+    if (bar_)
+      std::fprintf(stderr, "\r\033[K[%.*s%*s] %zu/%zu  %s  ETA %.0fs", filled, "##############################", 30 - filled,
+                   "", done_, total_, what.c_str(), eta);
+    else
+      std::fprintf(stderr, "job %zu/%zu done: %s (%.0f s elapsed, ETA %.0f s)\n", done_, total_, what.c_str(), el, eta);
     std::fflush(stderr);
   }
   void finish() {
-    if (enabled_) std::fprintf(stderr, "\n");
+    if (bar_) std::fprintf(stderr, "\n");
   }
 
  private:
   size_t total_, done_ = 0;
-  bool enabled_;
+  bool enabled_, bar_;
   std::mutex mutex_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };

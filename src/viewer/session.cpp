@@ -12,6 +12,8 @@
 #include "core/output_guard.h"
 #include "image/image_io.h"
 #include "frame/integrator.h"
+#include <cstdio>
+
 #include "scene/camera.h"
 #include "scene/loader.h"
 #include "viewer/background_reference.h"
@@ -28,6 +30,7 @@ Options viewer_options(const ViewArgs& a, const Scene& scene) {
   if (!a.integrator.empty()) set_option(o, "integrator", a.integrator);
   if (a.spp > 0) set_option(o, "render.spp", std::to_string(a.spp));
   for (const auto& s : a.sets) set_option_assignment(o, s);
+  for (const std::string& n : fit_defaults_to_integrator(o, /*sequence=*/false)) std::fprintf(stderr, "note: %s\n", n.c_str());
   validate_options(o);
   find_integrator(o.integrator);
   return o;

@@ -142,4 +142,32 @@ TEST_SUITE("cli") {
     CHECK(c.output.find("\"mse\": 0.25") != std::string::npos);
     fs::remove_all(d);
   }
+
+  // A first ReSTIR render of a scene written for a path tracer: the Cornell box asks for maxdepth
+  // 65 and many spp; restir-pt renders a 1-spp sequence at depth 64 and says so.
+  TEST_CASE("restir-pt on the Cornell box: a sequence at 1 spp, the scene's depth fitted, each said once") {
+    fs::path d = temp_dir("restir-defaults");
+    const std::string scene = shared_scene("cornell-box/scene-v4.pbrt");
+    auto r = run_restir("render " + scene + " --integrator restir-pt --res 24x24 -o " + (d / "o.exr").string());
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    CHECK(r.output.find("note: restir-pt renders 1 to 64 bounces: path.max_depth 65 (from the scene) becomes 64") != std::string::npos);
+    CHECK(r.output.find("note: restir-pt renders a sequence: 1 sample per pixel per frame, 16 frames") != std::string::npos);
+    CHECK(r.output.find("16 frame(s)") != std::string::npos);
+    // Not a terminal (a pipe): frame lines without the escape codes that clear a progress bar.
+    CHECK(r.output.find("frame 15: ") != std::string::npos);
+    CHECK(r.output.find('\033') == std::string::npos);
+    CHECK(r.output.find('\r') == std::string::npos);
+    // Many spp in one frame, asked for: rendered, with a warning even under -q.
+    auto w = run_restir("render " + scene + " -q --integrator restir-di --res 16x16 --spp 4 --frames 1 -o " + (d / "w.exr").string());
+    INFO(w.output);
+    CHECK(w.status == 0);
+    CHECK(w.output.find("warning: restir-di with 4 spp in 1 frame") != std::string::npos);
+    // An explicit depth out of range: refused, saying what to set.
+    auto e = run_restir("render " + scene + " -q --integrator restir-pt --set path.max_depth=65 -o " + (d / "e.exr").string());
+    CHECK(e.status != 0);
+    CHECK(e.output.find("set path.max_depth to a value in [1, 64]") != std::string::npos);
+    CHECK(!fs::exists(d / "e.exr"));
+    fs::remove_all(d);
+  }
 }

@@ -123,3 +123,71 @@ TEST_CASE("options: a scene file's values are not explicit keys") {
   CHECK(o.explicit_keys == std::vector<std::string>{"integrator"});
   CHECK_NOTHROW(validate_options(o));
 }
+
+TEST_CASE("options: a mistyped key names the closest one") {
+  Options o;
+  CHECK_THROWS_WITH_AS(set_option(o, "pt.spatial_radus", "10"), doctest::Contains("did you mean 'pt.spatial_radius'?"), OptionError);
+  CHECK_THROWS_WITH_AS(set_option(o, "nothing.like.it", "1"), doctest::Contains("see `restir options`"), OptionError);
+}
+
+TEST_CASE("options: a scene's max depth is fitted to restir-pt, an explicit one is refused with what to set") {
+  SceneHints hints;
+  hints.max_depth = 65;  // the Cornell box
+  Options o;
+  set_option(o, "integrator", "restir-pt");
+  apply_scene_hints(o, hints);
+  CHECK_THROWS_AS(validate_options(o), OptionError);
+  const auto notes = fit_defaults_to_integrator(o, false);
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("path.max_depth 65 (from the scene) becomes 64") != std::string::npos);
+  CHECK(o.path.max_depth == 64);
+  CHECK_NOTHROW(validate_options(o));
+  // The path tracer renders the scene's 65 as it is.
+  Options p;
+  apply_scene_hints(p, hints);
+  CHECK(fit_defaults_to_integrator(p, true).empty());
+  CHECK(p.path.max_depth == 65);
+  // Set explicitly, it is the user's choice: refused, saying what to set.
+  Options e;
+  set_option(e, "integrator", "restir-gi");
+  set_option(e, "path.max_depth", "65");
+  CHECK(fit_defaults_to_integrator(e, true).size() == 1);  // only the sequence note
+  CHECK(e.path.max_depth == 65);
+  CHECK_THROWS_WITH_AS(validate_options(e), doctest::Contains("set path.max_depth to a value in [1, 64]"), OptionError);
+}
+
+TEST_CASE("options: a ReSTIR render is a 1-spp sequence unless told otherwise") {
+  SceneHints hints;
+  hints.spp = 64;
+  auto with = [&](const char* integrator, std::vector<std::string> sets) {
+    Options o;
+    apply_scene_hints(o, hints);
+    set_option(o, "integrator", integrator);
+    for (const auto& s : sets) set_option_assignment(o, s);
+    return o;
+  };
+  Options a = with("restir-pt", {});
+  auto notes = fit_defaults_to_integrator(a, true);
+  CHECK(a.render.spp == 1);
+  CHECK(a.render.frames == kRestirDefaultFrames);
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].find("not 64 spp in one frame") != std::string::npos);
+  // Without `sequence` (a study, the viewer) nothing about spp or frames changes.
+  Options s = with("restir-di", {});
+  CHECK(fit_defaults_to_integrator(s, false).empty());
+  CHECK(s.render.spp == 64);
+  // Frames given, spp from the scene: 1 spp per frame.
+  Options f = with("restir-gi", {"render.frames=4"});
+  CHECK(fit_defaults_to_integrator(f, true).size() == 1);
+  CHECK((f.render.spp == 1 && f.render.frames == 4));
+  // Both given, many spp in one frame: unchanged, and a warning.
+  Options w = with("restir-di", {"render.spp=8", "render.frames=1"});
+  notes = fit_defaults_to_integrator(w, true);
+  REQUIRE(notes.size() == 1);
+  CHECK(notes[0].starts_with("warning: restir-di with 8 spp in 1 frame"));
+  CHECK((w.render.spp == 8 && w.render.frames == 1));
+  // The path tracer keeps the scene's samples.
+  Options p = with("pt", {});
+  CHECK(fit_defaults_to_integrator(p, true).empty());
+  CHECK((p.render.spp == 64 && p.render.frames == 1));
+}
