@@ -14,11 +14,14 @@
 //   glTF texture coordinates have v = 0 at the image's top; they are stored as 1 - v (pbrt).
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <map>
 #include <tuple>
 
@@ -177,8 +180,33 @@ void add_obj_meshes(std::map<int, ObjGroup>& groups, const tinyobj::shape_t& sh,
 
 }  // namespace
 
+// tinyobjloader reads "v 1 abc 0" as (1, 0, 0) without a word: every number of a v, vn or vt line
+// is checked here first, so that a corrupt file is an error at its line, not a silently wrong mesh.
+void check_obj_numbers(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    std::istringstream ss(line);
+    std::string tag, word;
+    ss >> tag;
+    if (tag != "v" && tag != "vn" && tag != "vt") continue;
+    const char* kind = tag == "v" ? "vertex position" : tag == "vn" ? "vertex normal" : "vertex texture coordinate";
+    int count = 0;
+    while (ss >> word && word[0] != '#') {
+      char* end = nullptr;
+      const float v = std::strtof(word.c_str(), &end);
+      if (end != word.c_str() + word.size() || !std::isfinite(v))
+        throw SceneError(path, n, fmt::format("{} ('{}'): '{}' is not a finite number", kind, tag, word));
+      ++count;
+    }
+    if (count < (tag == "vt" ? 1 : 3))
+      throw SceneError(path, n, fmt::format("{} ('{}'): {} number(s), expected {}", kind, tag, count, tag == "vt" ? "1 to 3" : "3"));
+  }
+}
+
 void import_obj(const std::string& path, const MeshImport& opt, Scene& scene, std::vector<TriangleMesh>& out) {
   std::string dir = fs::path(path).parent_path().string();
+  if (std::ifstream(path)) check_obj_numbers(path);  // an unreadable file: tinyobjloader's error below
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   cfg.vertex_color = false;

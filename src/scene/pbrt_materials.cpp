@@ -119,6 +119,10 @@ Texture make_texture(const Token& d, const std::string& name, const std::string&
   t.vscale = pl.get_float("vscale", 1);
   t.udelta = pl.get_float("udelta", 0);
   t.vdelta = pl.get_float("vdelta", 0);
+  // A negative scale mirrors the texture (pbrt-v4 allows it; "vscale" -1 flips an image upright); a
+  // zero one collapses it to one texel, which no scene means.
+  for (const char* k : {"uscale", "vscale"})
+    if (const Param* p = pl.find(k); p && pl.get_float(k, 1) == 0) p->fail("0 collapses the texture to one texel (a negative scale mirrors it)");
   std::string mapping = pl.get_string("mapping", "uv");
   if (mapping != "uv") d.fail("Texture: unsupported mapping '" + mapping + "' (only \"uv\")");
   if (cls == "imagemap") {

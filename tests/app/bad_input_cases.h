@@ -98,8 +98,8 @@ inline std::vector<BadCase> bad_input_cases() {
       {"Material \"dielectric\" \"float roughness\" [V]", {"-1", "nan"}, "\"float roughness\""},
       {"MakeNamedMaterial \"m\" \"string type\" \"diffuse\" \"rgb reflectance\" [V 0 0]", {"-1", "nan"}, "\"rgb reflectance\""},
       // Textures: finite scales, non-negative values.
-      {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float uscale\" [V]", {"nan", "inf"}, "\"float uscale\""},
-      {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float vscale\" [V]", {"nan", "-inf"}, "\"float vscale\""},
+      {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float uscale\" [V]", {"nan", "inf", "0"}, "\"float uscale\""},
+      {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float vscale\" [V]", {"nan", "-inf", "0"}, "\"float vscale\""},
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float udelta\" [V]", {"nan"}, "\"float udelta\""},
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [V 1 1]", {"nan", "-1"}, "\"rgb tex1\""},
       {"Texture \"t\" \"spectrum\" \"constant\" \"rgb value\" [V 1 1]", {"nan", "-1", "inf"}, "\"rgb value\""},
@@ -190,6 +190,13 @@ inline std::vector<BadCase> bad_input_cases() {
   // Found by fuzz_obj (fuzz/regressions/obj-index-overflow.obj): 3 * index overflowed an int (UBSan).
   v.push_back({"OBJ with an index of -3333333331 (fuzz)", {{"m.obj", std::string("\x76\xf2\x30\x20\x30\x20\x30\x0a\xf6\x20\x31\xff\xff\xff\xff\xff\x20\x31\x6d\x74\x6c\x6c\x20\x31\x20\x30\x20\x31\x0a\x76\x20\x31\x31\x20\x30\x20\x31\x0a\x76\x20\x30\x20\x31\x20\x31\x0a\x66\x20\x2d\x33\x33\x33\x33\x33\x33\x33\x33\x33\x31\x20\x2d\x32\x20\x2d\x33\x0a", 66)}},
                "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj", "index"}});
+  v.push_back({"OBJ with a non-numeric coordinate", {{"m.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n"}},
+               "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj:2", "'abc' is not a finite number"}});
+  v.push_back({"OBJ with a short vertex line", {{"m.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"}},
+               "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj:2", "expected 3"}});
+  v.push_back({"objmesh with a non-numeric coordinate", {{"s.pbrt", world_line("Shape \"objmesh\" \"string filename\" \"m.obj\"")},
+                                                        {"m.obj", "v 0 0 0\nv 1 0 0\nv 0 x1 0\nf 1 2 3\n"}},
+               kRender, 1, {"m.obj:3", "'x1'"}});
   v.push_back({"empty OBJ", {{"m.obj", ""}}, "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj", "no triangles"}});
   v.push_back({"OBJ with an overflowing vertex", {{"m.obj", "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}}, "render -q {d}/m.obj -o {d}/o.exr",
                1, {"m.obj", "vertex"}});
