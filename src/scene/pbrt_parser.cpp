@@ -330,10 +330,18 @@ void Parser::render_settings(const Token& d) {
       warn(d, "Film \"filename\" ignored (the output path comes from the options)");
     }
   } else if (n == "Sampler") {
+    // Sample positions come from render.sample_pattern; of pbrt's samplers only pixelsamples is read.
+    // Unbiased either way: a pattern changes noise, not the mean.
+    if (type != "independent" && type != "zsobol" && type != "sobol")
+      warn(d, "Sampler \"" + type + "\": rendered with restir-lab's own sample positions (render.sample_pattern); only \"pixelsamples\" is read");
     pl.check_range("pixelsamples", 1);
     h.spp = pl.get_int("pixelsamples", 16);
     note_hint(d, pl, "pixelsamples", "render.spp");
   } else if (n == "Integrator") {
+    // The integrator is an option (integrator=, --integrator); a path tracer's maxdepth carries over.
+    if (type != "path" && type != "volpath" && type != "simplepath")
+      warn(d, "Integrator \"" + type + "\" is not supported: rendered with the options' integrator (default pt, a unidirectional "
+              "path tracer, as pbrt's \"path\"); only \"maxdepth\" is read");
     pl.check_range("maxdepth", 0);
     h.max_depth = pl.get_int("maxdepth", 5);
     note_hint(d, pl, "maxdepth", "path.max_depth");

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 #include "frame/options.h"
@@ -115,5 +116,21 @@ TEST_SUITE("cli") {
     CHECK(bad.output.find("did you mean 'pt.spatial'?") != std::string::npos);
     auto typo = run_restir("render x.pbrt -o x.exr --set render.sp=2");
     CHECK(typo.status != 0);
+  }
+
+  TEST_CASE("a pbrt Integrator or Sampler restir-lab does not have is a warning that says what is rendered") {
+    fs::path d = fresh_dir("pbrt-names");
+    std::ofstream(d / "s.pbrt") << "Integrator \"bdpt\" \"integer maxdepth\" [3]\nSampler \"pmj02bn\" \"integer pixelsamples\" [2]\n"
+                                   "Camera \"perspective\"\nWorldBegin\nLightSource \"point\" \"rgb I\" [1 1 1]\nShape \"sphere\"\n";
+    auto r = run_restir("render " + (d / "s.pbrt").string() + " -q --res 8x8 -o " + (d / "o.exr").string());
+    INFO(r.output);
+    CHECK(r.status == 0);
+    CHECK(r.output.find("s.pbrt:1: warning: Integrator \"bdpt\" is not supported: rendered with the options' integrator") != std::string::npos);
+    CHECK(r.output.find("s.pbrt:2: warning: Sampler \"pmj02bn\": rendered with restir-lab's own sample positions") != std::string::npos);
+    std::ofstream(d / "p.pbrt") << "Integrator \"path\"\nSampler \"independent\"\nCamera \"perspective\"\nWorldBegin\n"
+                                   "LightSource \"point\" \"rgb I\" [1 1 1]\nShape \"sphere\"\n";
+    auto q = run_restir("render " + (d / "p.pbrt").string() + " -q --res 8x8 -o " + (d / "p.exr").string());
+    CHECK(q.output.find("warning") == std::string::npos);
+    fs::remove_all(d);
   }
 }
