@@ -89,6 +89,8 @@ class Parser {
   TriangleMesh triangle_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf);
   TriangleMesh ply_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf);
   Sphere sphere_shape(const Token& d, const ParamList& pl, const Mat4& xf);
+  TriangleMesh disk_shape(const Token& d, const ParamList& pl, const Mat4& xf);           // pbrt_quadrics.cpp
+  TriangleMesh bilinear_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf);  // pbrt_quadrics.cpp
   void mesh_file_shape(const Token& d, const std::string& type, const ParamList& pl, const Mat4& xf,
                        std::vector<TriangleMesh>& out);
   void instantiate(const Token& d, const Instance& inst);

@@ -153,10 +153,14 @@ void Parser::add_shape(const Token& d, const std::string& type, const ParamList&
   } else if (type == "sphere") {
     Sphere sp = sphere_shape(d, pl, xf);
     (current_instance_ ? current_instance_->spheres : scene_.spheres).push_back(sp);
+  } else if (type == "disk") {
+    out.push_back(disk_shape(d, pl, xf));
+  } else if (type == "bilinearmesh") {
+    out.push_back(bilinear_mesh_shape(d, pl, xf));
   } else if (type == "objmesh" || type == "gltfmesh") {
     mesh_file_shape(d, type, pl, xf, out);
   } else {
-    d.fail("unsupported shape '" + type + "' (supported: trianglemesh, plymesh, sphere, objmesh, gltfmesh)");
+    d.fail("unsupported shape '" + type + "' (supported: trianglemesh, plymesh, sphere, disk, bilinearmesh, objmesh, gltfmesh)");
   }
 }
 
