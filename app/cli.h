@@ -29,6 +29,8 @@ struct RenderArgs {
   int64_t seed = -1;
   std::vector<std::string> sets;
   bool quiet = false;
+  std::string frame_format = "exr";  // --frame-dir: exr, png or both
+  bool stats = false;                // --stats: per-stage summary on stdout
 };
 
 // render: the scene to EXR/PNG (app/render_command.cpp).

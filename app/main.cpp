@@ -68,8 +68,11 @@ void add_render_command(CLI::App& app, Commands& c) {
   render->add_option("-o,--output", ra.out, "HDR output of the last frame (.exr)");
   render->add_option("--png", ra.png, "tone-mapped PNG of the last frame");
   render->add_option("--average", ra.average, "EXR of the mean over all frames");
-  render->add_option("--frame-dir", ra.frame_dir, "write every frame as DIR/frame_NNNN.exr");
-  render->add_option("--timings", ra.timings, "CSV of per-frame wall time");
+  render->add_option("--frame-dir", ra.frame_dir, "write every frame as DIR/frame_NNNN.exr (and/or .png: --frame-format)");
+  render->add_option("--frame-format", ra.frame_format, "--frame-dir's files: exr (linear), png (tone-mapped), or both")
+      ->check(CLI::IsMember({"exr", "png", "both"}));
+  render->add_option("--timings", ra.timings, "CSV of each frame's wall time and each stage's (primary, candidates, temporal, spatial, shading, ...)");
+  render->add_flag("--stats", ra.stats, "print each stage's median ms per frame and share of the frame time after the render");
   render->add_option("--integrator", ra.integrator, "integrator name (= --set integrator=NAME)");
   render->add_option("--spp", ra.spp, "samples per pixel (= --set render.spp=N)")->check(integer_in(1, INT_MAX));
   render->add_option("--res", ra.res, "resolution WxH (= film.width / film.height)");
@@ -150,6 +153,8 @@ void add_study_command(CLI::App& app, Commands& c) {
   study_cmd->add_option("--partition", sl.partition, "--slurm: sbatch --partition");
   study_cmd->add_option("--time", sl.time, "--slurm: sbatch --time limit per task (e.g. 2:00:00)");
   study_cmd->add_option("--cpus", sl.cpus, "--slurm: sbatch --cpus-per-task")->check(integer_in(1, 4096));
+  study_cmd->add_option("--sbatch-arg", sl.sbatch_args, "--slurm: any other sbatch option, repeatable (--sbatch-arg=--account=NAME --sbatch-arg=--mem=8G)")
+      ->allow_extra_args(false);
   study_cmd->add_flag("--dry-run", sl.dry_run, "--slurm: print the job scripts and sbatch commands; submit nothing");
   study_cmd->footer("Resumable: rows already in OUT/results.json (or OUT/shards/*) are not recomputed. Format: studies/README.md.\n"
                     "Cluster: --slurm submits, --shard/--merge are what its tasks run; see README \"Running on a cluster\".");
@@ -180,9 +185,9 @@ int run_study_command(Commands& c) {
   if (sa.out.empty()) throw UsageError("study: --out DIR is required");
   if (!c.shard_text.empty()) sa.shard = study::parse_shard(c.shard_text);
   const bool slurm_only = sl.dry_run || study_cmd->count("--shards") || study_cmd->count("--partition") ||
-                          study_cmd->count("--time") || study_cmd->count("--cpus");
+                          study_cmd->count("--time") || study_cmd->count("--cpus") || study_cmd->count("--sbatch-arg");
   if (c.slurm && (sa.merge || sa.shard.active())) throw UsageError("study: --slurm submits shards and merge itself; drop --shard/--merge");
-  if (!c.slurm && slurm_only) throw UsageError("study: --shards, --partition, --time, --cpus and --dry-run belong to --slurm");
+  if (!c.slurm && slurm_only) throw UsageError("study: --shards, --partition, --time, --cpus, --sbatch-arg and --dry-run belong to --slurm");
   if (c.slurm) return study::submit_study_slurm(sa, sl);
   return study::run_study(sa);
 }

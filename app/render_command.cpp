@@ -58,10 +58,11 @@ std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const 
       const fs::path pp(p);
       const std::string name = pp.filename().string();
       int f = -1;
-      if (std::sscanf(name.c_str(), "frame_%d.exr", &f) == 1 && f >= 0 && f < o.render.frames &&
-          name == fmt::format("frame_{:04d}.exr", f) &&
-          same_file(pp.parent_path().empty() ? "." : pp.parent_path().string(), a.frame_dir))
-        throw IoError(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
+      for (const char* ext : {"exr", "png"})
+        if (std::sscanf(name.c_str(), "frame_%d.", &f) == 1 && f >= 0 && f < o.render.frames &&
+            name == fmt::format("frame_{:04d}.{}", f, ext) && (a.frame_format == "both" || a.frame_format == ext) &&
+            same_file(pp.parent_path().empty() ? "." : pp.parent_path().string(), a.frame_dir))
+          throw IoError(fmt::format("--frame-dir '{}': frame {} would overwrite '{}'", a.frame_dir, f, p));
     }
   }
   check_outputs(outs, inputs);
@@ -90,6 +91,27 @@ std::string timings_csv(const RenderResult& r) {
 }
 
 }  // namespace
+
+// --stats: each stage's median over the frames that ran it, and its share of the median frame.
+std::string stage_summary(const RenderResult& r) {
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const double frame = median(r.frame_ms);
+  std::string s = fmt::format("{:<16} {:>10} {:>7}  (median over {} frame(s))\n", "stage", "ms/frame", "share", r.frame_ms.size());
+  for (const std::string& n : stage_names(r.frame_stages)) {
+    std::vector<double> v;
+    for (const StageTimes& st : r.frame_stages)
+      if (st.of(n) > 0) v.push_back(st.of(n));
+    const double m = median(v);
+    s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%{}\n", n, m, frame > 0 ? 100 * m / frame : 0.0,
+                     v.size() < r.frame_ms.size() ? fmt::format("  (ran in {} of {} frames)", v.size(), r.frame_ms.size()) : "");
+  }
+  s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%\n", "frame", frame, 100.0);
+  return s;
+}
 
 int run_render(const RenderArgs& a) {
   if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
@@ -131,17 +153,20 @@ int run_render(const RenderArgs& a) {
   hooks.on_frame = [&](int f, const Image& img, double ms) {
     // "\r\033[K" clears the progress bar, which only a terminal shows (render.cpp): not in a log.
     if (!a.quiet && o.render.frames > 1) std::fprintf(stderr, "%sframe %d: %.1f ms\n", stderr_tty ? "\r\033[K" : "", f, ms);
-    if (!a.frame_dir.empty()) {
+    if (!a.frame_dir.empty() && a.frame_format != "png") {
       auto m = meta;
       m.emplace_back("restir.frame", std::to_string(f));
       write_exr(fmt::format("{}/frame_{:04d}.exr", a.frame_dir, f), img, m);
     }
+    // PNG frames, tone-mapped as --png is: what a video encoder takes (ffmpeg -i DIR/frame_%04d.png).
+    if (!a.frame_dir.empty() && a.frame_format != "exr") write_png(fmt::format("{}/frame_{:04d}.png", a.frame_dir, f), tonemap(img, o.output));
   };
   RenderResult r = render(scene, o, hooks);
 
   write_outputs(a.out, a.png, r.last, o, meta);
   if (!a.average.empty()) write_exr(a.average, r.average, meta);
   if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r));
+  if (a.stats) fmt::print("{}", stage_summary(r));
   // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
   // key lets a later run tell its own sidecar from a user's JSON file of the same name.
   if (!sidecar.empty()) {

@@ -35,6 +35,12 @@ std::string header(const SlurmArgs& sl, const std::string& name, const std::stri
   h += fmt::format("#SBATCH --cpus-per-task={}\n", sl.cpus);
   if (!sl.partition.empty()) h += "#SBATCH --partition=" + sl.partition + "\n";
   if (!sl.time.empty()) h += "#SBATCH --time=" + sl.time + "\n";
+  for (const std::string& arg : sl.sbatch_args) {
+    // One sbatch option per line: a newline would start a shell command in the script.
+    if (!arg.starts_with("-") || arg.find_first_of("\n\r") != std::string::npos)
+      throw StudyError("--sbatch-arg '" + arg + "': expected one sbatch option such as --account=NAME, --mem=8G or --gres=gpu:1");
+    h += "#SBATCH " + arg + "\n";
+  }
   return h;
 }
 

@@ -16,6 +16,9 @@ struct SlurmArgs {
   std::string time;       // sbatch --time (empty: the partition's default)
   int cpus = 1;           // sbatch --cpus-per-task; each task renders with that many threads
   bool dry_run = false;   // print the scripts and the sbatch commands; write and submit nothing
+  // Further sbatch options, each one "#SBATCH" line in both scripts (--account=proj, --mem=8G,
+  // --gres=gpu:1): what a cluster asks that the flags above do not name.
+  std::vector<std::string> sbatch_args;
 };
 
 // The job scripts (exposed for tests). `binary` is the restir executable the tasks run.

@@ -133,4 +133,24 @@ TEST_SUITE("cli") {
     CHECK(q.output.find("warning") == std::string::npos);
     fs::remove_all(d);
   }
+
+  TEST_CASE("--frame-dir --frame-format png writes tone-mapped frames; --stats prints each stage's share") {
+    fs::path d = fresh_dir("frames");
+    const std::string scene = shared_scene("cornell-box/scene-v4.pbrt");
+    auto r = run_restir("render " + scene + " -q --integrator restir-di --res 16x16 --frames 3 --frame-dir " + (d / "f").string() +
+                        " --frame-format png --png " + (d / "last.png").string() + " --stats");
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    for (int f = 0; f < 3; ++f) CHECK(fs::exists(d / "f" / ("frame_000" + std::to_string(f) + ".png")));
+    CHECK(!fs::exists(d / "f" / "frame_0000.exr"));
+    // The last frame's PNG is the --png output, pixel for pixel.
+    CHECK(mse(read_image((d / "f" / "frame_0002.png").string()), read_image((d / "last.png").string())) == 0.0);
+    CHECK(r.output.find("candidates") != std::string::npos);
+    CHECK(r.output.find("temporal") != std::string::npos);
+    CHECK(r.output.find("(ran in 2 of 3 frames)") != std::string::npos);  // no temporal reuse on frame 0
+    CHECK(r.output.find("frame ") != std::string::npos);
+    auto bad = run_restir("render " + scene + " -q --res 8x8 --frame-dir " + (d / "g").string() + " --frame-format gif");
+    CHECK(bad.status == 2);
+    fs::remove_all(d);
+  }
 }

@@ -79,6 +79,13 @@ TEST_SUITE("study_shards") {
     CHECK(shard.find("#SBATCH --partition=short\n") != std::string::npos);
     CHECK(shard.find("#SBATCH --time=1:00:00\n") != std::string::npos);
     CHECK(shard.find("#SBATCH --cpus-per-task=4\n") != std::string::npos);
+    sl.sbatch_args = {"--account=proj1", "--gres=gpu:1"};
+    const std::string extra = study::slurm_shard_script(a, sl, "/opt/restir");
+    CHECK(extra.find("#SBATCH --account=proj1\n#SBATCH --gres=gpu:1\n") != std::string::npos);
+    CHECK(study::slurm_merge_script(a, sl, "/opt/restir").find("#SBATCH --account=proj1\n") != std::string::npos);
+    sl.sbatch_args = {"--mem=1G\nrm -rf /"};
+    CHECK_THROWS_AS(study::slurm_shard_script(a, sl, "/opt/restir"), study::StudyError);
+    sl.sbatch_args.clear();
     CHECK(shard.find("exec '/opt/restir' study 'candidates' --out '/data/run 1' --shard \"${SLURM_ARRAY_TASK_ID}/8\" --jobs 1 --quick\n") !=
           std::string::npos);
     const std::string merge = study::slurm_merge_script(a, sl, "/opt/restir");
