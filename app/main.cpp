@@ -112,7 +112,7 @@ void add_export_command(CLI::App& app, Commands& c) {
   export_mi->add_option("--out", ea.out, "output folder")->required();
   export_mi->add_option("--set", ea.sets, "set an option as for render: key=value (film.width, path.max_depth, ...)");
   export_mi->add_option("--config", ea.config, "JSON file of options (applied before --set)");
-  export_mi->footer("Mitsuba's max_depth is path.max_depth + 1 (it counts the camera segment). See src/scene/mitsuba_export.h.");
+  export_mi->footer("Mitsuba's max_depth is path.max_depth + 1 (it counts the camera segment). README \"Validation against Mitsuba 3\" says what is exported.");
 }
 
 void add_view_command(CLI::App& app, Commands& c) {
@@ -130,7 +130,9 @@ void add_view_command(CLI::App& app, Commands& c) {
                    "share of wall time the window may spend redrawing while nothing moves (default 0.03; 1: redraw every frame)")
       ->check(CLI::Range(0.001f, 1.0f));
   view->add_option("--scale", va.scale, "render scale: 1, 0.5 or 0.25 of film.width x film.height")->check(CLI::IsMember({1.0f, 0.5f, 0.25f}));
-  view->add_option("--script", va.script, "run a script of commands (set, frames, screenshot, ...; see src/viewer/script.h) and exit");
+  view->add_option("--script", va.script, "run a script of commands and exit: one a line, set KEY VALUE | frames N | screenshot PATH | view radiance|error|split | "
+                 "split F | accumulate on|off | scale S | camera orbit|move|reset|mode ... | record start|stop|save PATH | "
+                 "reference on [SPP]|off|wait | save-config PATH | quit ('#' comments; README \"Interactive viewer\")");
   view->add_option("--bench", va.bench, "render N frames bare and N through the viewer loop; print ms/frame and the ratio")->check(integer_in(1, 100000));
   view->footer("Controls: left drag turns (orbit / fly), right drag pans, wheel dollies, WASD + Q/E move, R resets the camera,\n"
                "Space pauses. Option precedence: defaults < scene file < render.spp=1 < --config < flags < --set.");

@@ -25,16 +25,19 @@ render() {  # name scene [options...]
   echo "== $name"
   "$R" render "$scene" -o "$OUT/$name.exr" --png "$OUT/$name.png" "$@"
 }
-render cornell-box "$SHARED/cornell-box/scene-v4.pbrt" --res 512x512 --spp 64 --set path.max_depth=8
-render veach-mis "$SHARED/veach-mis/scene-v4.pbrt" --res 640x360 --spp 64
+# Small and quick (seconds each): a first look at every scene, and what ReSTIR is for, a sequence of
+# frames at 1 sample per pixel each, beside the path tracer at the same frame time or more.
+render cornell-box "$SHARED/cornell-box/scene-v4.pbrt" --res 256x256 --spp 16 --set path.max_depth=8
+render cornell-box-restir-pt "$SHARED/cornell-box/scene-v4.pbrt" --res 256x256 --integrator restir-pt --spp 1 --frames 16 --set path.max_depth=8
+render veach-mis "$SHARED/veach-mis/scene-v4.pbrt" --res 320x180 --spp 16
 render furnace "$SHARED/furnace.pbrt" --spp 16 --set path.max_depth=65
 for s in cornell-box many-lights teapot ajar-door env-object; do
-  [ -f "$ROOT/scenes/$s.pbrt" ] && render "own-$s" "$ROOT/scenes/$s.pbrt" --spp 32
+  [ -f "$ROOT/scenes/$s.pbrt" ] && render "own-$s" "$ROOT/scenes/$s.pbrt" --res 320x180 --spp 8
 done
 # The default study (studies/equal-time.json, about two minutes on two cores): ReSTIR PT's shift
 # mappings against the path tracer at equal frames and at equal time on the glossy teapots, large
 # enough that its answer holds (its verdict: docs/results/equal-time/RESULTS.md; a test checks the
 # conclusion). `restir study --list` lists the thesis' figures.
-"$R" study equal-time --out "$OUT/study-equal-time" -q
+"$R" study equal-time --out "$OUT/study-equal-time"
 echo "done in $((SECONDS - START)) s: images in $OUT"
 echo "study report: $OUT/study-equal-time/report.html"
