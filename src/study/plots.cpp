@@ -270,7 +270,8 @@ AxisFit fit_axis(const std::vector<double>& values, bool want_log, double pad) {
   }
   const auto [lo, hi] = std::minmax_element(all.begin(), all.end());
   const double span = *hi - *lo, d = span > 0 ? pad * span : (*hi != 0 ? pad * std::fabs(*hi) : 1.0);
-  f.min = *lo >= 0 ? std::max(*lo - d, 0.0) : *lo - d;  // errors and times are not negative: no axis below 0
+  // Positive data (errors, times) gets no negative axis; data at 0 keeps its margin, off the frame.
+  f.min = *lo > 0 ? std::max(*lo - d, 0.0) : *lo - d;
   f.max = *hi + d;
   return f;
 }

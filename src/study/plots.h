@@ -57,7 +57,7 @@ std::string axis_label(const std::string& name);
 // An axis range fitted to the data (values: means and error-bar ends). Logarithmic only where
 // want_log and the positive values span more than a decade (a log axis over 1..2.5 shows a decade
 // of blank and squeezes the data); padded by `pad` of the span (of the decades on a log axis) on
-// each side, and not below 0 for data that is not. valid: there were finite values.
+// each side, and not below 0 for data above 0. valid: there were finite values.
 struct AxisFit {
   bool valid = false, log = false;
   double min = 0, max = 1;

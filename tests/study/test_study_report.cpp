@@ -193,7 +193,8 @@ TEST_SUITE("study") {
     CHECK(f.min > 0.005);
     CHECK(f.max > 1.0);
     CHECK(f.max < 1.5);
-    CHECK(fit_axis({0.0, 2.0}, false).min == 0.0);  // not below 0 for data that is not
+    CHECK(fit_axis({0.05, 2.0}, false).min == 0.0);  // not below 0 for positive data
+    CHECK(fit_axis({0.0, 2.0}, false).min < 0.0);    // a point at 0 is not drawn on the frame
     CHECK_FALSE(fit_axis({}, true).valid);
     CHECK(axis_commands("y", fit_axis({1.0, 2.5}, true)).find("logscale") == std::string::npos);
   }
