@@ -14,6 +14,7 @@
 //   glTF texture coordinates have v = 0 at the image's top; they are stored as 1 - v (pbrt).
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
+#include <nlohmann/json.hpp>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -414,6 +415,17 @@ void import_gltf(const std::string& path, const MeshImport& opt, Scene& scene, s
   for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
   bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  // glTF 1.0 (objects keyed by id) is not glTF 2.0: tinygltf reads it as empty or fails with its own
+  // words. Say which version it is and what to do (the version comes from tinygltf or the JSON).
+  std::string version = model.asset.version;
+  if (!ok && ext != ".glb") {
+    std::ifstream in(path);
+    const auto j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_object() && j.contains("asset") && j["asset"].is_object() && j["asset"].value("version", "") != "")
+      version = j["asset"]["version"].get<std::string>();
+  }
+  if (version.starts_with("1"))
+    throw SceneError(path, 0, "glTF " + version + " is not supported: restir-lab reads glTF 2.0 (convert the file, e.g. with Blender's glTF importer and exporter)");
   if (!ok) throw SceneError(path, 0, "cannot read glTF: " + one_line(err.empty() ? warn : err));
   if (!warn.empty()) std::fprintf(stderr, "%s: warning: %s\n", path.c_str(), one_line(warn).c_str());
 

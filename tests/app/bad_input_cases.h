@@ -197,6 +197,8 @@ inline std::vector<BadCase> bad_input_cases() {
   v.push_back({"objmesh with a non-numeric coordinate", {{"s.pbrt", world_line("Shape \"objmesh\" \"string filename\" \"m.obj\"")},
                                                         {"m.obj", "v 0 0 0\nv 1 0 0\nv 0 x1 0\nf 1 2 3\n"}},
                kRender, 1, {"m.obj:3", "'x1'"}});
+  v.push_back({"glTF 1.0", {{"m.gltf", R"({"asset": {"version": "1.0"}, "meshes": {"m": {"primitives": []}}})"}},
+               "render -q {d}/m.gltf -o {d}/o.exr", 1, {"m.gltf", "glTF 1.0 is not supported", "2.0"}});
   v.push_back({"empty OBJ", {{"m.obj", ""}}, "render -q {d}/m.obj -o {d}/o.exr", 1, {"m.obj", "no triangles"}});
   v.push_back({"OBJ with an overflowing vertex", {{"m.obj", "v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}}, "render -q {d}/m.obj -o {d}/o.exr",
                1, {"m.obj", "vertex"}});

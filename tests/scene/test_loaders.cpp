@@ -289,7 +289,7 @@ TEST_CASE("pbrt: every bad input is a SceneError naming file and line") {
       {kWorld + "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 5]\n",
        "bad.pbrt:3: parameter \"integer indices\": vertex index 5 is out of range"},
       {kWorld + "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 1]\n", "bad.pbrt:3: trianglemesh: \"integer indices\" required"},
-      {kWorld + "Shape \"disk\"\n", "bad.pbrt:3: unsupported shape 'disk'"},
+      {kWorld + "Shape \"cylinder\"\n", "bad.pbrt:3: unsupported shape 'cylinder'"},
       {kWorld + "Shape \"sphere\" \"float radius\" 1 \"float alpha\" 0.5\n", "bad.pbrt:3: parameter \"float alpha\": unused"},
       {kWorld + "NamedMaterial \"nope\"\n", "bad.pbrt:3: NamedMaterial: unknown material 'nope'"},
       {"Camera \"perspective\"\n" + tri, "bad.pbrt:2: Shape is not allowed before WorldBegin"},
