@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "core/suggest.h"
 #include "scene/pbrt_parser.h"
 
 namespace rl {
@@ -105,7 +106,9 @@ void Parser::directive(const Token& d) {
   } else if (n == "MakeNamedMedium" || n == "MediumInterface") {
     d.fail("unsupported directive '" + n + "' (participating media are not supported)");
   } else {
-    d.fail("unknown directive '" + n + "'");
+    // pbrt-v4's directives that this parser reads: a misspelt one names the closest.
+    static const std::vector<std::string> known = {"ActiveTransform", "AreaLightSource", "Attribute", "AttributeBegin", "AttributeEnd", "Camera", "ColorSpace", "ConcatTransform", "CoordSysTransform", "CoordinateSystem", "Film", "Identity", "Import", "Include", "Integrator", "LightSource", "LookAt", "MakeNamedMaterial", "Material", "NamedMaterial", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option", "PixelFilter", "ReverseOrientation", "Rotate", "Sampler", "Scale", "Shape", "Texture", "Transform", "TransformBegin", "TransformEnd", "TransformTimes", "Translate", "WorldBegin", "WorldEnd"};
+    d.fail("unknown directive '" + n + "'" + did_you_mean(n, known));
   }
 }
 

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/suggest.h"
+
 namespace rl::pbrt {
 
 void warn(const Token& t, const std::string& msg) {
@@ -232,6 +234,7 @@ ParamList parse_params(Tokenizer& tok) {
 }
 
 const Param* ParamList::find(const std::string& name) const {
+  if (std::find(asked_.begin(), asked_.end(), name) == asked_.end()) asked_.push_back(name);
   for (const Param& p : params)
     if (p.name == name) {
       p.used = true;
@@ -264,6 +267,7 @@ static void check_int(const Param& p, double d) {
 std::string format_number(double v) { return fmt::format("{}", v); }
 
 void ParamList::check_range(const std::string& name, double lo, double hi, bool lo_open) const {
+  if (std::find(asked_.begin(), asked_.end(), name) == asked_.end()) asked_.push_back(name);
   const Param* p = nullptr;
   for (const Param& q : params)
     if (q.name == name) p = &q;
@@ -394,7 +398,7 @@ void ParamList::ignore(const std::string& name) const { find(name); }
 
 void ParamList::check_unused(const std::string& context) const {
   for (const Param& p : params)
-    if (!p.used) p.fail("unused or unsupported parameter for " + context);
+    if (!p.used) p.fail("unused or unsupported parameter for " + context + did_you_mean(p.name, asked_));
 }
 
 std::vector<std::string> ParamList::unused() const {

@@ -90,6 +90,11 @@ class ParamList {
   void check_unused(const std::string& context) const;
   // Names of unread parameters (for warnings).
   std::vector<std::string> unused() const;
+
+ private:
+  // The names the reader asked for (find, the getters, check_range), in order: what a parameter
+  // nobody read was probably meant to be ("did you mean").
+  mutable std::vector<std::string> asked_;
 };
 
 // Reads "type name" value... entries while the next token is a quoted string.

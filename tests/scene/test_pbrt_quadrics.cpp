@@ -66,4 +66,10 @@ TEST_CASE("pbrt: bilinearmesh - a planar patch is two triangles, a curved one fo
             .find("out of range") != std::string::npos);
 }
 
+TEST_CASE("pbrt: a misspelt directive or parameter names the closest one") {
+  CHECK(error_of(kWorld + "Shpae \"sphere\"\n").find("unknown directive 'Shpae' (did you mean 'Shape'?)") != std::string::npos);
+  CHECK(error_of(kWorld + "Shape \"disk\" \"float raduis\" [2]\n").find("(did you mean 'radius'?)") != std::string::npos);
+  CHECK(error_of(kWorld + "Shape \"sphere\" \"float zzzzzz\" [2]\n").find("did you mean") == std::string::npos);
+}
+
 }  // TEST_SUITE
