@@ -5,7 +5,7 @@
 # run; a run's ms/frame is the median of its frames after the first (frame 0 builds what the later
 # ones reuse). Prints each run, then per integrator the medians over rounds and NEW / OLD.
 #   bench/bench_binaries.sh OLD_RESTIR NEW_RESTIR [ROUNDS] [FRAMES]
-# e.g. OLD = a build of the commit before the change in a git worktree (README "Benchmarks").
+# e.g. OLD = a build of the commit before the change in a git worktree (README "Tests and benchmarks", docs/benchmarks.md).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 old="$1"; new="$2"; rounds="${3:-5}"; frames="${4:-5}"
