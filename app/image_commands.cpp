@@ -53,7 +53,8 @@ std::string estimand(const Options& o) {
   std::string what;
   if (o.integrator == "restir-di") what = "direct light only (restir-di: paths of 1 bounce)";
   else if (o.integrator == "ssr") what = "screen-space reflections (ssr: reflections traced in screen space, biased)";
-  else what = fmt::format("paths of up to {} bounces ({})", o.path.max_depth, o.integrator);
+  // pt, restir-gi and restir-pt estimate the same integral at the same depth: no integrator name.
+  else what = fmt::format("paths of up to {} bounces", o.path.max_depth);
   // Not the frame: a static scene's integral is the same at every frame of a sequence.
   return fmt::format("{} at {}x{}", what, o.film.width, o.film.height);
 }

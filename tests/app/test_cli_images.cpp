@@ -92,6 +92,13 @@ TEST_SUITE("cli") {
     CHECK(c.output.find("direct light only (restir-di") != std::string::npos);
     auto same = run_restir("compare " + (d / "pt2.exr").string() + " " + (d / "pt.exr").string());
     CHECK(same.output.find("warning") == std::string::npos);
+    // A ReSTIR PT sequence against the path tracer at the same depth: the same integral, no warning.
+    auto rp = run_restir("render " + scene + " -q --res 16x16 --integrator restir-pt --frames 2 -o " + (d / "rp.exr").string());
+    REQUIRE(rp.status == 0);
+    auto pt64 = run_restir("render " + scene + " -q --res 16x16 --spp 1 --set path.max_depth=64 -o " + (d / "pt64.exr").string());
+    auto restir_vs_pt = run_restir("compare " + (d / "rp.exr").string() + " " + (d / "pt64.exr").string());
+    INFO(restir_vs_pt.output);
+    CHECK(restir_vs_pt.output.find("warning") == std::string::npos);
     // tonemap: the same pixels as render's --png (the tone mapping read from the EXR header).
     auto t = run_restir("tonemap " + (d / "pt.exr").string() + " " + (d / "again.png").string());
     REQUIRE(t.status == 0);
