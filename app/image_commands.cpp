@@ -61,8 +61,7 @@ std::string estimand(const Options& o) {
 
 // A warning when the two images' recorded configurations estimate different integrals: the
 // metrics then measure that difference, not noise or bias.
-void warn_if_different_integrals(const CompareArgs& a) {
-  const auto t = recorded_options(a.test), r = recorded_options(a.reference);
+void warn_if_different_integrals(const CompareArgs& a, const std::optional<Options>& t, const std::optional<Options>& r) {
   if (!t || !r) return;
   const std::string et = estimand(*t), er = estimand(*r);
   if (et != er)
@@ -110,11 +109,12 @@ int run_compare(const CompareArgs& a) {
     throw OptionError(fmt::format("compare: '{}' is {}x{} but '{}' is {}x{}", a.test, test.width, test.height, a.reference,
                                   ref.width, ref.height));
   if (!a.crop.empty()) test = crop(test, a.crop, "test"), ref = crop(ref, a.crop, "reference");
-  warn_if_different_integrals(a);
+  const std::optional<Options> test_options = recorded_options(a.test);
+  warn_if_different_integrals(a, test_options, recorded_options(a.reference));
   // FLIP compares what a viewer sees: the tone mapping the test image was rendered with (as a study
   // does), or, for tone-mapped files, the images themselves (linear tone mapping, exposure 0, undoes
   // the sRGB decoding read_image applied).
-  OutputOptions display = recorded_options(a.test).value_or(Options{}).output;
+  OutputOptions display = test_options.value_or(Options{}).output;
   if (display_referred(a.test)) display = OutputOptions{Tonemap::linear, 0, 1, true};
   const double m = mse(test, ref), r = rel_mse(test, ref), e = mean_abs_error(test, ref);
   const double f = study::flip_metric(test, ref, display);

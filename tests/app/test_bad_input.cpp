@@ -21,12 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh_dir(const std::string& tag) {
-  fs::path d = fs::temp_directory_path() / ("restir-bad-" + tag + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path fresh_dir(const std::string& tag) { return fresh_temp_dir("bad-" + tag); }
 
 // Every regular file and folder under d, relative, with the files' contents.
 std::map<std::string, std::string> snapshot(const fs::path& d) {

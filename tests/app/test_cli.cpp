@@ -14,12 +14,7 @@ using namespace rl::test;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temp_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / (std::string("restir-cli-") + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const char* name) { return fresh_temp_dir(std::string("cli-") + name); }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 int count_lines(const std::string& s) {
   int n = 0;

@@ -19,12 +19,7 @@ using namespace rl::test;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path fresh_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / (std::string("restir-cli-img-") + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path fresh_dir(const char* name) { return fresh_temp_dir(std::string("cli-img-") + name); }
 // A smooth gradient and the same with a bright square: a difference FLIP sees.
 Image gradient(int w, int h, bool square) {
   Image img(w, h);

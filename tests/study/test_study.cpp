@@ -28,12 +28,7 @@ using namespace rl::study;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temp_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("restir-study-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return test::fresh_temp_dir("study-" + name); }
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 std::string cbox() { return test::own_scene("cornell-box.pbrt"); }
 

@@ -21,12 +21,7 @@ using namespace rl::study;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temp_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("restir-report-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return test::fresh_temp_dir("report-" + name); }
 
 // Rows of one scene: configuration `value` of `key`, one row per seed 1, 2, ... with the given
 // values of `metric`; render.seed varies with the seed, as in a study's rows.

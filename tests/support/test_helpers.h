@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 
 #include "image/image.h"
 #include "frame/integrator.h"
@@ -24,6 +25,16 @@ inline std::string env_or(const char* name, const char* fallback) {
 }
 inline std::string shared_scene(const std::string& rel) { return env_or("RESTIR_SHARED_DIR", RESTIR_SHARED_DIR) + "/scenes/" + rel; }
 inline std::string own_scene(const std::string& rel) { return env_or("RESTIR_SOURCE_DIR", RESTIR_SOURCE_DIR) + "/scenes/" + rel; }
+
+// An empty folder of the system's temp directory, "restir-NAME-PID", made afresh (a leftover of
+// an earlier run is removed first): one per test case, so cases and concurrent runs do not meet.
+inline std::filesystem::path fresh_temp_dir(const std::string& name) {
+  namespace fs = std::filesystem;
+  fs::path d = fs::temp_directory_path() / ("restir-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
 
 // The whole file's bytes (empty if it cannot be read).
 inline std::string read_file(const std::filesystem::path& p) {
