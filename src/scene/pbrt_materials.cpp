@@ -153,6 +153,7 @@ Texture make_texture(const Token& d, const std::string& name, const std::string&
     float s = 1;
     if (const Param* sp = pl.find("scale")) {
       if (sp->type != "float") sp->fail("only a constant float scale is supported");
+      pl.check_range("scale", 0);  // a negative factor makes a negative reflectance (light from nowhere)
       s = pl.get_float("scale", 1);
     }
     const Param* tp = pl.find("tex");

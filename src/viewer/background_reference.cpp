@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "scene/animation.h"
 
@@ -59,7 +60,28 @@ double BackgroundReference::pass(const std::function<void(int, int)>& progress) 
   // Each pass is the next frame of a static sequence: a new per-frame seed, the same view.
   const double ms = renderer_->render_frame(camera_, options_.render.frames, img, nullptr, progress);
   mean_.add(img);
+  const size_t n = img.pixels.size() * 3;
+  if (mean_.count() == 1) squares_.assign(n, 0.0);
+  const double w = 1.0 / mean_.count();
+  for (size_t i = 0; i < n; ++i) {
+    const double v = img.pixels[i / 3][int(i % 3)];
+    squares_[i] += (v * v - squares_[i]) * w;
+  }
   return ms;
+}
+
+double BackgroundReference::own_rel_mse() const { return rel_mse_of_mean(mean_.mean(), squares_, mean_.count()); }
+
+double rel_mse_of_mean(const Image& mean, const std::vector<double>& squares, int n) {
+  if (n < 2 || squares.size() != mean.pixels.size() * 3 || squares.empty()) return -1;
+  double sum = 0;
+  for (size_t i = 0; i < squares.size(); ++i) {
+    const double m = mean.pixels[i / 3][int(i % 3)];
+    const double variance_of_mean = std::max(0.0, squares[i] - m * m) / (n - 1);
+    const double den = (m + 0.01) * (m + 0.01);
+    if (den > 0 && std::isfinite(variance_of_mean)) sum += variance_of_mean / den;
+  }
+  return sum / double(squares.size());
 }
 
 }  // namespace rl::viewer

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "frame/options.h"
 #include "frame/render.h"
@@ -36,6 +37,11 @@ class BackgroundReference {
 
   int spp() const { return mean_.count(); }
   const Image& mean() const { return mean_.mean(); }
+  // The reference's own error: an estimate of the relMSE of mean() against the image it converges
+  // to, from the spread of its passes (-1 before the second pass). The metrics against it measure
+  // the frames' error plus this (the two are independent), so a relMSE near it is the reference's
+  // noise, not the frames' error.
+  double own_rel_mse() const;
   const Options& options() const { return options_; }
 
  private:
@@ -49,7 +55,14 @@ class BackgroundReference {
   std::unique_ptr<Scene> frozen_;  // the animated scene at the reference's frame (null: static)
   std::unique_ptr<FrameRenderer> renderer_;
   Accumulation mean_;
+  std::vector<double> squares_;  // per channel value: the running mean of the passes' squares
 };
+
+// The expected relMSE of the mean of n independent passes against their expectation, per channel
+// value: the variance of the mean, (mean of squares - mean^2) / (n - 1) (the unbiased sample
+// variance over n), over (mean + 0.01)^2, pbrt's relMSE denominator (image/metrics.h), averaged.
+// -1 for n < 2. `squares` holds one value per channel value of `mean`.
+double rel_mse_of_mean(const Image& mean, const std::vector<double>& squares, int n);
 
 // The reference's seed for a viewer seed: a stream of its own (a fixed offset, so that the
 // viewer's seed still selects the reference's noise deterministically).

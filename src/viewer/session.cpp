@@ -326,6 +326,7 @@ bool Session::copy_reference() {
   if (reference_serial_ == ui_reference_serial_) return false;
   if (shared_reference_spp_ > 0) ui_reference_ = shared_reference_;
   ui_reference_spp_ = shared_reference_spp_;
+  ui_reference_rel_mse_ = shared_reference_rel_mse_;
   ui_reference_serial_ = reference_serial_;
   return true;
 }
@@ -394,6 +395,7 @@ bool Session::aim_reference(const Options& o, const CameraKey& camera, int frame
 void Session::reference_restarted() {
   reference_ms_ = view_ms_ = 0;  // the time shares restart with the reference
   shared_reference_spp_ = 0;      // no metrics against the old view's image
+  shared_reference_rel_mse_ = -1;
   reference_full_ = false;
   ++reference_serial_;
 }
@@ -422,6 +424,7 @@ void Session::reference_turn(const Options& o, const CameraKey& camera, int fram
   if (!full) {
     shared_reference_ = bg.mean();
     shared_reference_spp_ = bg.spp();
+    shared_reference_rel_mse_ = bg.own_rel_mse();
     ++reference_serial_;
   }
   reference_full_ = target > 0 && bg.spp() >= target;

@@ -142,6 +142,9 @@ class Session {
   // when it changed. UI thread.
   bool poll_reference();
   int reference_spp() const { return ui_reference_spp_; }
+  // The background reference's own relMSE (BackgroundReference::own_rel_mse) as of the image
+  // reference() shows; -1 for a --reference file (its error is unknown) or before its second pass.
+  double reference_own_rel_mse() const { return reference_.has_value() ? -1 : ui_reference_rel_mse_; }
   // True when the background reference has reached its target for the current view (or failed:
   // see error()).
   bool reference_done() const;
@@ -179,6 +182,7 @@ class Session {
   ReferenceSettings reference_settings_;
   Image ui_reference_;  // the UI thread's copy of the background reference
   int ui_reference_spp_ = 0;
+  double ui_reference_rel_mse_ = -1;
   long long ui_reference_serial_ = 0;
 
   // Shared with the worker, under m_.
@@ -204,6 +208,7 @@ class Session {
   bool reference_full_ = false;  // it reached its target for the view it was last aimed at
   Image shared_reference_;
   int shared_reference_spp_ = 0;
+  double shared_reference_rel_mse_ = -1;
   long long reference_serial_ = 0;
   double reference_ms_ = 0, view_ms_ = 0;  // render time of each since the reference restarted
   int view_frame_ = 0;                     // the animation frame of the last frame shown

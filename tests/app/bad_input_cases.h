@@ -101,6 +101,7 @@ inline std::vector<BadCase> bad_input_cases() {
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float uscale\" [V]", {"nan", "inf", "0"}, "\"float uscale\""},
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float vscale\" [V]", {"nan", "-inf", "0"}, "\"float vscale\""},
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"float udelta\" [V]", {"nan"}, "\"float udelta\""},
+      {"Texture \"t\" \"spectrum\" \"scale\" \"float scale\" [V]", {"-1", "nan", "inf"}, "\"float scale\""},
       {"Texture \"t\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [V 1 1]", {"nan", "-1"}, "\"rgb tex1\""},
       {"Texture \"t\" \"spectrum\" \"constant\" \"rgb value\" [V 1 1]", {"nan", "-1", "inf"}, "\"rgb value\""},
       {"Texture \"t\" \"spectrum\" \"scale\" \"float scale\" [V]", {"nan", "inf"}, "\"float scale\""},

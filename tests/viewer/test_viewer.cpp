@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "image/image_io.h"
+#include "image/metrics.h"
 #include "image/tonemap.h"
 #include "frame/integrator.h"
 #include "frame/render.h"
@@ -413,6 +414,57 @@ TEST_SUITE("viewer") {
     CHECK(bg.aim(pt, turned, 0));
     pt.render.seed = 9;
     CHECK(bg.aim(pt, turned, 0));
+  }
+
+  TEST_CASE("the reference's own relMSE: the variance of a mean of n passes over pbrt's denominator") {
+    // Synthetic passes with a known spread: pixel i has mean m_i and takes m_i +- s_i (each with
+    // probability 1/2), so the variance of one pass is s_i^2 and of the mean of n, s_i^2 / n.
+    const int w = 40, h = 30, n = 8;
+    Pcg32 rng(7, 1);
+    Image mean(w, h);
+    std::vector<double> squares(size_t(w) * h * 3, 0.0);
+    double expected = 0;
+    for (int i = 0; i < w * h; ++i) {
+      const float m = 0.05f + 0.9f * rng.next_float(), sd = 0.5f * m;
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0, sum2 = 0;
+        for (int k = 0; k < n; ++k) {
+          const double v = m + (rng.next_float() < 0.5f ? -sd : sd);
+          sum += v, sum2 += v * v;
+        }
+        mean.pixels[i][c] = float(sum / n);
+        squares[size_t(i) * 3 + c] = sum2 / n;
+        // Over the mean's own denominator, as the estimate has it (the true m would be ~9% off here).
+        const double d = mean.pixels[i][c] + 0.01;
+        expected += double(sd) * sd / n / (d * d);
+      }
+    }
+    expected /= w * h * 3;
+    const double est = rel_mse_of_mean(mean, squares, n);
+    INFO("estimate " << est << ", expected " << expected);
+    CHECK(est == doctest::Approx(expected).epsilon(0.05));  // dividing by n instead of n - 1 is 12.5% low
+    CHECK(rel_mse_of_mean(mean, squares, 1) == -1);
+  }
+
+  TEST_CASE("the background reference's own relMSE predicts its distance to another, independent one") {
+    // Two references of one view with independent seeds: E[relMSE(A, B)] ~ own(A) + own(B), the
+    // variances add (the denominator's own noise makes the left a little larger).
+    Scene scene = load_scene(own_scene("cornell-box.pbrt"));
+    Options defaults;
+    apply_scene_hints(defaults, scene.hints);
+    Options o = options_for(scene, {"integrator=pt", "film.width=24", "film.height=18", "render.spp=1", "path.max_depth=1"});
+    const CameraKey key = scene.camera.keys.front();
+    BackgroundReference a(scene, defaults), b(scene, defaults);
+    CHECK(a.aim(o, key, 0));
+    o.render.seed += 1;
+    CHECK(b.aim(o, key, 0));
+    CHECK(a.own_rel_mse() == -1);
+    for (int i = 0; i < 32; ++i) a.pass(), b.pass();
+    const double own = a.own_rel_mse() + b.own_rel_mse(), between = rel_mse(a.mean(), b.mean());
+    INFO("relMSE(A, B) " << between << ", own(A) + own(B) " << own);
+    CHECK(a.own_rel_mse() > 0);
+    CHECK(between / own > 0.6);
+    CHECK(between / own < 1.7);
   }
 
   TEST_CASE("background reference of an animated scene: the scene frozen at the viewer's frame, held after the last key") {

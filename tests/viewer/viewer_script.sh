@@ -148,6 +148,9 @@ echo "tonemap aces -> linear, exposure 0 -> 1: EXR MSE $x, PNG MAE $p"
 less 0.01 "$p" || fail "changing the tone mapper did not change the PNG (MAE $p)"
 [ "$(json_field "$work/aces.json" frames_accumulated)" = "$(json_field "$work/linear.json" frames_accumulated)" ] ||
   fail "changing the tone mapper re-rendered"
+# The ms/frame readout (the panel's, kept in script mode too: it once read 0.0 after 8 frames).
+ms=$(json_field "$work/aces.json" ms_per_frame)
+[ -n "$ms" ] && less 0 "$ms" || fail "aces.json: ms_per_frame '$ms' after 9 frames"
 # The window's live display transform (a shader, display_gl.h) agrees with tonemap_pixel to 1/255.
 for f in sn0 aces linear; do
   m=$(json_field "$work/$f.json" display_max_difference)
@@ -207,10 +210,13 @@ for f in bg-radiance bg-error bg-split bg-moved; do
   [ "$(json_field "$work/$f.json" reference_spp)" = "64" ] || fail "$f.json: reference_spp is not 64"
   r=$(json_field "$work/$f.json" rel_mse)
   [ -n "$r" ] && less 0 "$r" && less "$r" 1 || fail "$f.json: rel_mse '$r' against the background reference"
+  # The reference's own error beside it: positive, and part of the relMSE (the frames' error adds to it).
+  own=$(json_field "$work/$f.json" reference_own_rel_mse)
+  [ -n "$own" ] && less 0 "$own" && less "$own" "$r" || fail "$f.json: reference_own_rel_mse '$own' (rel_mse $r)"
 done
 less 0 "$(metric "$work/bg-error.png" "$work/bg-radiance.png" mse)" || fail "the error view against the background reference shows the radiance"
 less 0 "$(metric "$work/bg-split.png" "$work/bg-radiance.png" mse)" || fail "the split view against the background reference shows the radiance"
-echo "background reference: rel_mse $(json_field "$work/bg-radiance.json" rel_mse) at 64 spp"
+echo "background reference: rel_mse $(json_field "$work/bg-radiance.json" rel_mse) at 64 spp, its own $(json_field "$work/bg-radiance.json" reference_own_rel_mse)"
 
 # 8. Bad input: one error line naming the script's file and line, exit 1, before a window opens.
 printf 'frames 1\nset di.spatial_neighbors 99\n' > "$work/bad1.txt"

@@ -83,6 +83,21 @@ bool option_widget(const OptionWidget& w, const std::string& value, std::string&
   return false;
 }
 
+// The background reference's own relMSE beside the metrics: the relMSE against a noisy reference
+// is the frames' error plus the reference's, so a value near the reference's own says nothing about
+// the frames (a 32-spp reference of a scene with fireflies has a relMSE of hundreds by itself).
+void reference_noise(const Gui& g) {
+  const double own = g.session.reference_own_rel_mse();
+  if (own < 0) return;
+  ImGui::Text("  the reference's own relMSE ~%s (%d spp)", fmt::format("{:.5f}", own).c_str(), g.session.reference_spp());
+  if (g.rel_mse >= 0 && g.rel_mse < 2 * own) {
+    ImGui::SameLine();
+    ImGui::TextUnformatted(": relMSE not resolved");
+    help_tooltip("the relMSE is less than twice the reference's own: most of it may be the reference's noise; let "
+                 "the reference run longer (reference target spp)");
+  }
+}
+
 void readouts(Gui& g) {
   const FrameReadout& r = g.readout;
   const Options& o = g.session.options();
@@ -96,6 +111,7 @@ void readouts(Gui& g) {
   } else if (g.session.reference()) {
     ImGui::Text("relMSE %s   FLIP %s", g.rel_mse >= 0 ? fmt::format("{:.5f}", g.rel_mse).c_str() : "-",
                 g.flip >= 0 ? fmt::format("{:.4f}", g.flip).c_str() : "-");
+    reference_noise(g);
   }
   const std::vector<float> v = g.history.values();
   if (!v.empty()) {
