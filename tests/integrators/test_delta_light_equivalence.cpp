@@ -59,7 +59,7 @@ TEST_SUITE("slow_equivalence_lights") {
     const Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
                                           "film.width=16", "film.height=16", "di.light_candidates=4", "di.bsdf_candidates=1",
                                           "di.spatial_neighbors=6", "di.spatial_radius=4"});
-    certify("restir-di spot + distant", path, scene, o, 100, 16384);
+    certify("restir-di spot + distant", path, scene, o, 400, 65536);
   }
 
   TEST_CASE("ReSTIR PT (reconnection, hybrid) with spot and distant lights is equivalent to the path tracer") {
@@ -68,7 +68,7 @@ TEST_SUITE("slow_equivalence_lights") {
     for (const char* shift : {"reconnection", "hybrid"}) {
       Options o = pt_certification_options(scene);
       set_option(o, "pt.shift", shift);
-      certify(std::string("restir-pt spot + distant ") + shift, path, scene, o, 60, 16384);
+      certify(std::string("restir-pt spot + distant ") + shift, path, scene, o, 240, 65536);
     }
   }
 }
