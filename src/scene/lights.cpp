@@ -191,7 +191,10 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
   }
   for (const PointLight& pl : scene.point_lights) t_.emitters.push_back(point_light(pl));
   for (const SpotLight& sl : scene.spot_lights) t_.emitters.push_back(spot_light(sl));
-  for (const DistantLight& dl : scene.distant_lights) t_.emitters.push_back(distant_light(dl, scene_bounds(scene)));
+  if (!scene.distant_lights.empty()) {
+    const Bounds3 bounds = scene_bounds(scene);
+    for (const DistantLight& dl : scene.distant_lights) t_.emitters.push_back(distant_light(dl, bounds));
+  }
   if (scene.environment) {
     const EnvironmentLight& env = *scene.environment;
     t_.env_mapping = env.mapping;

@@ -2,7 +2,8 @@
 // seen from above through pixel centres, lit by one delta light, at depth 1. Light sampling is the
 // only strategy and has one outcome per pixel, so the path tracer's estimate is the exact value
 // rho / pi * E in every pixel (E the irradiance), and so is every unbiased resampling of it: ReSTIR
-// DI's and PT's reservoirs can only hold that one light, with MIS weights that sum to 1.
+// DI's and PT's reservoirs can only hold that one light, with MIS weights that sum to 1 (GI's direct
+// light is one light sample, its reservoirs hold the indirect part, 0 here).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -59,7 +60,7 @@ TEST_SUITE("path_tracer") {
     const Scene scene = plane_scene("distant-plane", "LightSource \"distant\" \"point3 from\" [" + std::to_string(std::sin(theta)) +
                                                          " " + std::to_string(std::cos(theta)) + " 0] \"point3 to\" [0 0 0] \"rgb L\" [2 2 2]");
     const double expected = kRho / kPi * L * std::cos(theta);
-    for (const std::string integrator : {"pt", "restir-di", "restir-pt"}) {
+    for (const std::string integrator : {"pt", "restir-di", "restir-gi", "restir-pt"}) {
       CAPTURE(integrator);
       const Image img = render(scene, depth1_options(scene, integrator)).last;
       double worst = 0;
@@ -73,7 +74,7 @@ TEST_SUITE("path_tracer") {
     const Scene scene = plane_scene("spot-plane", "LightSource \"spot\" \"point3 from\" [0 2 0] \"point3 to\" [0 0 0] \"rgb I\" [5 5 5] "
                                                   "\"float coneangle\" 30 \"float conedeltaangle\" 10");
     const int w = 33, ht = 33;
-    for (const std::string integrator : {"pt", "restir-di", "restir-pt"}) {
+    for (const std::string integrator : {"pt", "restir-di", "restir-gi", "restir-pt"}) {
       CAPTURE(integrator);
       const Image img = render(scene, depth1_options(scene, integrator)).last;
       CHECK(img.at(16, 16).y == doctest::Approx(kRho / kPi * I / (h * h)).epsilon(1e-4));  // straight below
