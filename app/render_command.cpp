@@ -231,7 +231,8 @@ int run_info(const std::string& path) {
   fmt::print("spheres     {}\n", scene.spheres.size());
   fmt::print("materials   {}\n", scene.materials.size());
   fmt::print("textures    {}\n", scene.textures.size());
-  fmt::print("emitters    {} (point lights {}, environment {})\n", lights.emitter_count(), scene.point_lights.size(),
+  fmt::print("emitters    {} (point lights {}, spot lights {}, distant lights {}, environment {})\n", lights.emitter_count(),
+             scene.point_lights.size(), scene.spot_lights.size(), scene.distant_lights.size(),
              scene.environment ? (scene.environment->filename.empty() ? "constant" : scene.environment->filename) : "none");
   fmt::print("bounds      ({:.4g}, {:.4g}, {:.4g}) - ({:.4g}, {:.4g}, {:.4g})\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
   if (!scene.camera.keys.empty()) {

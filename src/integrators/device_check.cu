@@ -33,6 +33,7 @@ __global__ void device_compile_check(PathWorld w, BvhView bvh, PerspectiveCamera
   acc += float(L.sample_point(0.4f, Vec2(0.5f, 0.5f), ep)) + L.point_pdf(ep.emitter, ep.position);
   acc += luminance(L.emitted(e, g.ng, g.wo)) + L.environment_pdf(ray.d) + luminance(L.environment_radiance(ray.d));
   acc += float(L.triangle_emitter(0, 0) + L.sphere_emitter(0) + L.environment_emitter()) + float(L.has_environment());
+  acc += float(L.is_delta(e)) + float(L.at_infinity(e)) + luminance(L.delta_emission(e, ls.wi)) + spot_falloff(0.9f, 0.8f, 0.95f);
   BsdfSample bs;
   acc += float(bsdf_sample(g.bsdf, Vec3(0, 0, 1), 0.5f, Vec2(0.3f, 0.3f), bs)) + bsdf_pdf(g.bsdf, Vec3(0, 0, 1), bs.wi) +
          luminance(bsdf_eval(g.bsdf, Vec3(0, 0, 1), bs.wi)) + bsdf_roughness(g.bsdf);

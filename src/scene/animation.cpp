@@ -186,21 +186,48 @@ Animation load_animation(const std::string& path) {
 
 bool scene_animated(const Scene& s) {
   auto any = [](const auto& v) { return std::any_of(v.begin(), v.end(), [](const auto& x) { return x.animation >= 0; }); };
-  return any(s.meshes) || any(s.spheres) || any(s.point_lights) || (s.environment && s.environment->animation >= 0);
+  return any(s.meshes) || any(s.spheres) || any(s.point_lights) || any(s.spot_lights) || any(s.distant_lights) ||
+         (s.environment && s.environment->animation >= 0);
 }
 
 bool lights_animated(const Scene& s) {
   auto any = [](const auto& v) {
     return std::any_of(v.begin(), v.end(), [](const auto& x) { return x.animation >= 0 && x.emission.has_value(); });
   };
-  return any(s.meshes) || any(s.spheres) ||
-         std::any_of(s.point_lights.begin(), s.point_lights.end(), [](const PointLight& l) { return l.animation >= 0; }) ||
+  auto any_light = [](const auto& v) { return std::any_of(v.begin(), v.end(), [](const auto& l) { return l.animation >= 0; }); };
+  return any(s.meshes) || any(s.spheres) || any_light(s.point_lights) || any_light(s.spot_lights) || any_light(s.distant_lights) ||
          (s.environment && s.environment->animation >= 0);
 }
 
+namespace {
+
+// Spot lights move like point lights, their axis turning with them; a distant light's direction
+// turns as the environment does (the translation of its key is ignored: it is infinitely far).
+// Both scale their emission by the key's intensity.
+void animate_delta_lights(const Scene& rest, const std::vector<Mat4>& xf, const std::vector<float>& gain, Scene& out) {
+  for (size_t li = 0; li < rest.spot_lights.size(); ++li) {
+    const SpotLight& r = rest.spot_lights[li];
+    if (r.animation < 0) continue;
+    const size_t a = size_t(r.animation);
+    out.spot_lights[li].position = xf[a].apply_point(r.position);
+    out.spot_lights[li].direction = normalize(xf[a].apply_vector(r.direction));
+    out.spot_lights[li].intensity = r.intensity * gain[a];
+  }
+  for (size_t li = 0; li < rest.distant_lights.size(); ++li) {
+    const DistantLight& r = rest.distant_lights[li];
+    if (r.animation < 0) continue;
+    const size_t a = size_t(r.animation);
+    out.distant_lights[li].direction = normalize(xf[a].apply_vector(r.direction));
+    out.distant_lights[li].radiance = r.radiance * gain[a];
+  }
+}
+
+}  // namespace
+
 void animate_scene(const Scene& rest, int frame, Scene& out) {
   if (out.meshes.size() != rest.meshes.size() || out.spheres.size() != rest.spheres.size() ||
-      out.point_lights.size() != rest.point_lights.size() || out.environment.has_value() != rest.environment.has_value())
+      out.point_lights.size() != rest.point_lights.size() || out.spot_lights.size() != rest.spot_lights.size() ||
+      out.distant_lights.size() != rest.distant_lights.size() || out.environment.has_value() != rest.environment.has_value())
     out = rest;  // first frame: everything; later frames rewrite only what moves
   std::vector<Mat4> xf(rest.animations.size()), inv(rest.animations.size());
   std::vector<float> gain(rest.animations.size());
@@ -230,6 +257,7 @@ void animate_scene(const Scene& rest, int frame, Scene& out) {
     out.point_lights[li].position = xf[size_t(r.animation)].apply_point(r.position);
     out.point_lights[li].intensity = r.intensity * gain[size_t(r.animation)];
   }
+  animate_delta_lights(rest, xf, gain, out);
   if (rest.environment && rest.environment->animation >= 0) {
     const size_t a = size_t(rest.environment->animation);
     EnvironmentLight& e = *out.environment;
@@ -248,6 +276,8 @@ Scene scene_at_frame(const Scene& rest, int frame) {
   for (auto& m : s.meshes) m.animation = -1;
   for (auto& sp : s.spheres) sp.animation = -1;
   for (auto& l : s.point_lights) l.animation = -1;
+  for (auto& l : s.spot_lights) l.animation = -1;
+  for (auto& l : s.distant_lights) l.animation = -1;
   if (s.environment) s.environment->animation = -1;
   return s;
 }

@@ -1,7 +1,7 @@
 // Keyframed rigid motion and light intensity over the frames of a sequence (issue 11): the
 // project's small extension of the pbrt-v4 subset. Inside an AttributeBegin block,
 //   Attribute "shape" "string animation" "door.json"   animates the shapes that follow,
-//   Attribute "light" "string animation" "blink.json"  animates the point / infinite lights,
+//   Attribute "light" "string animation" "blink.json"  animates the point / spot / distant / infinite lights,
 // (pbrt-v4's own syntax for parameter defaults, so pbrt-v4 reads such a file and ignores the key).
 // An animation file:
 //   {"pivot": [x, y, z],                         rotation centre in world space (default origin)
@@ -49,7 +49,7 @@ Animation load_animation(const std::string& path);
 
 // True when anything in the scene is animated (shapes, lights).
 bool scene_animated(const Scene& rest);
-// True when an emitter moves or changes: an animated emissive shape, point light or environment.
+// True when an emitter moves or changes: an animated emissive shape, point, spot or distant light, or environment.
 bool lights_animated(const Scene& rest);
 
 // The scene at frame f of the sequence: `out` becomes `rest` with every animated shape and light

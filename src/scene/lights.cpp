@@ -1,5 +1,5 @@
-// The light tables from the scene (our code, following pbrt-v4's DiffuseAreaLight, PointLight and
-// Uniform/ImageInfiniteLight; PBR4 ch. 6 and 12). The per-sample code: scene/lights_view_inl.h.
+// The light tables from the scene (our code, following pbrt-v4's DiffuseAreaLight, PointLight,
+// SpotLight, DistantLight and Uniform/ImageInfiniteLight; PBR4 ch. 6 and 12). The per-sample code: scene/lights_view_inl.h.
 #include "scene/lights.h"
 
 #include "scene/animation.h"
@@ -63,13 +63,48 @@ LightEmitter point_light(const PointLight& pl) {
   return e;
 }
 
+LightEmitter spot_light(const SpotLight& sl) {
+  LightEmitter e;
+  e.kind = LightKind::spot;
+  e.p0 = sl.position;
+  e.n = sl.direction;
+  e.radiance = sl.intensity;
+  e.cos_falloff_start = sl.cos_falloff_start();
+  e.cos_falloff_end = sl.cos_falloff_end();
+  // Phi = I 2 pi ((1 - cos_start) + (cos_start - cos_end) / 2): the full cone's solid angle plus the
+  // smoothstep band's integral, which is half of its solid angle (PBR4 SpotLight::Phi).
+  e.power = positive_luminance(sl.intensity) * 2 * kPi *
+            ((1 - e.cos_falloff_start) + (e.cos_falloff_start - e.cos_falloff_end) / 2);
+  if (!std::isfinite(e.power)) e.power = 0;
+  return e;
+}
+
+// The radius of the scene's bounding sphere (1 for an empty or degenerate scene): the power
+// heuristics of the lights at infinity (pbrt-v4's Preprocess(sceneBounds)).
+float scene_radius(const Bounds3& bounds) {
+  float r = bounds.empty() ? 1.0f : 0.5f * length(bounds.diagonal());
+  if (!(r > 0) || !std::isfinite(r)) r = 1.0f;
+  return r;
+}
+
+LightEmitter distant_light(const DistantLight& dl, const Bounds3& bounds) {
+  LightEmitter e;
+  e.kind = LightKind::distant;
+  e.p0 = dl.direction;
+  e.radiance = dl.radiance;
+  // Selection heuristic: the flux of L through the scene's bounding disk, Phi = pi r^2 L (PBR4 DistantLight::Phi).
+  const float r = scene_radius(bounds);
+  e.power = kPi * r * r * positive_luminance(dl.radiance);
+  if (!std::isfinite(e.power)) e.power = 0;
+  return e;
+}
+
 LightEmitter environment_light(const Bounds3& bounds, float avg) {
   LightEmitter e;
   e.kind = LightKind::environment;
   // Selection heuristic only: the flux of radiance avg through the scene's bounding sphere,
   // Phi = 4 pi * pi r^2 * L_avg (PBR4 UniformInfiniteLight::Phi / ImageInfiniteLight::Phi).
-  float r = bounds.empty() ? 1.0f : 0.5f * length(bounds.diagonal());
-  if (!(r > 0) || !std::isfinite(r)) r = 1.0f;
+  const float r = scene_radius(bounds);
   e.power = 4 * kPi * kPi * r * r * avg;
   if (!std::isfinite(e.power)) e.power = 0;
   return e;
@@ -155,6 +190,11 @@ Lights::Lights(const Scene& scene, LightSelection selection) {
     t_.emitters.push_back(sphere_light(s));
   }
   for (const PointLight& pl : scene.point_lights) t_.emitters.push_back(point_light(pl));
+  for (const SpotLight& sl : scene.spot_lights) t_.emitters.push_back(spot_light(sl));
+  if (!scene.distant_lights.empty()) {
+    const Bounds3 bounds = scene_bounds(scene);
+    for (const DistantLight& dl : scene.distant_lights) t_.emitters.push_back(distant_light(dl, bounds));
+  }
   if (scene.environment) {
     const EnvironmentLight& env = *scene.environment;
     t_.env_mapping = env.mapping;

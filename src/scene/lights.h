@@ -1,5 +1,5 @@
 // The scene's emitters as one list for light sampling: one emitter per emissive triangle, per
-// emissive sphere, per point light, and one for the environment. Selection by emitted power
+// emissive sphere, per point, spot and distant light, and one for the environment. Selection by emitted power
 // (alias table) or uniformly; point sampling per emitter; solid-angle pdfs for MIS.
 //
 // The per-sample code lives in LightsView (scene/lights_view.h, with the conventions: normals,
@@ -63,18 +63,20 @@ class Lights {
   uint32_t select_emitter(float u, float* pmf) const { return view_.select_emitter(u, pmf); }
   bool sample_emitter(uint32_t e, Vec3 p, Vec2 u, LightSample& out) const { return view_.sample_emitter(e, p, u, out); }
   // Solid-angle pdf at p of sample() producing light_p on emitter e (with the selection pmf).
-  // Point lights: 0. Environment emitter: light_p is taken as the direction (as in LightSample).
+  // Delta lights (point, spot, distant): 0. Environment emitter: light_p is taken as the direction (as in LightSample).
   // light_n is unused: the emitter's own geometric normal is used (the same as sample()).
   float pdf(uint32_t emitter, Vec3 p, Vec3 light_p, Vec3 light_n) const { return view_.pdf(emitter, p, light_p, light_n); }
   // Receiver-independent sampling: emitter by the selection table, then uniform by area on
   // triangles and spheres (both sides of a sphere; the back is rejected later by its target),
-  // importance-sampled direction for the environment, the position for point lights.
+  // importance-sampled direction for the environment, the position for point and spot lights, the
+  // direction for distant lights.
   bool sample_point(float u_select, Vec2 u, EmitterPoint& out) const { return view_.sample_point(u_select, u, out); }
   // Density of sample_point() at a point of emitter e (direction for the environment), same measure.
   float point_pdf(uint32_t emitter, Vec3 position) const { return view_.point_pdf(emitter, position); }
   // Where a point on emitter e of `before` (the same scene's lights one frame earlier) is now: an
   // animated emitter carries its points along (same barycentrics on a triangle, same offset from a
-  // sphere's centre, the point light's position, the environment direction turned with the map).
+  // sphere's centre, a point or spot light's position, a distant light's direction, the environment
+  // direction turned with the map).
   // Rigid motion keeps area, so the map's Jacobian is 1 in the emitters' area measure. false when
   // e is not the same kind of emitter in both (the sample must be dropped). Host only.
   bool follow(uint32_t e, const Lights& before, Vec3& position, Vec3& normal) const;
@@ -94,6 +96,11 @@ class Lights {
   float power(uint32_t emitter) const { return view_.power(emitter); }
   // Intensity I of a point light (0 for other emitters).
   Rgb point_intensity(uint32_t emitter) const { return view_.point_intensity(emitter); }
+  // Point, spot and distant lights; the environment and distant lights; what a delta light sends
+  // toward wi (LightsView's documentation).
+  bool is_delta(uint32_t emitter) const { return view_.is_delta(emitter); }
+  bool at_infinity(uint32_t emitter) const { return view_.at_infinity(emitter); }
+  Rgb delta_emission(uint32_t emitter, Vec3 wi) const { return view_.delta_emission(emitter, wi); }
   Kind kind(uint32_t emitter) const { return view_.kind(emitter); }
 
  private:

@@ -55,26 +55,30 @@ namespace rl {
 inline constexpr uint32_t kNoEmitter = 0xffffffffu;
 
 struct LightSample {
-  Rgb radiance;       // emitted radiance arriving along -wi (intensity / dist^2 for point lights); NOT divided by pdf
+  Rgb radiance;       // emitted radiance arriving along -wi (intensity / dist^2 for point and spot lights); NOT divided by pdf
   Vec3 wi;            // unit direction from the shading point toward the light
-  float distance = 0; // to the light point (kInfinity for the environment)
-  float pdf = 0;      // solid-angle pdf INCLUDING the selection probability; point lights: the selection probability
-  bool is_delta = false;  // point light
-  Vec3 position, normal;  // on the light (normal zero for point / environment; environment: position = wi)
+  float distance = 0; // to the light point (kInfinity for the environment and distant lights)
+  float pdf = 0;      // solid-angle pdf INCLUDING the selection probability; delta lights: the selection probability
+  bool is_delta = false;  // point, spot or distant light (LightsView::is_delta)
+  Vec3 position, normal;  // on the light (normal zero for delta lights / environment; environment, distant: position = wi)
   uint32_t emitter = kNoEmitter;
 };
 
 // A point on an emitter drawn independently of any receiving point (ReSTIR DI's light
 // candidates, Bitterli et al. 2020 §3: cheap to generate, reusable across pixels).
 struct EmitterPoint {
-  Vec3 position;   // on the emitter; the direction for the environment
-  Vec3 normal;     // geometric normal (zero for point lights / environment)
+  Vec3 position;   // on the emitter; the direction toward the light for the environment and distant lights
+  Vec3 normal;     // geometric normal (zero for delta lights / environment)
   uint32_t emitter = 0xffffffffu;
   float pdf = 0;   // selection pmf x density in the emitter's measure: 1/area (triangles, spheres,
-                   // uniform by area), solid angle (environment), 1 (point lights)
+                   // uniform by area), solid angle (environment), 1 (point, spot, distant: counting)
 };
 
-enum class LightKind : uint8_t { triangle, sphere, point, environment };
+// Delta lights (point, spot: a delta in position; distant: a delta in direction) are reached by
+// light sampling only: no ray hits them, so BSDF sampling has density 0 for them, and their sample
+// measure is counting (pdf = the selection pmf). Lights at infinity (environment, distant) keep a
+// direction where the others keep a position, and their shadow rays are unbounded.
+enum class LightKind : uint8_t { triangle, sphere, point, environment, spot, distant };
 
 // One texel of an environment map with what a lookup returns: its radiance (scaled, negative and
 // non-finite values zeroed) and its density over the map's (u, v) square (row pmf x column pmf x
@@ -87,13 +91,15 @@ struct EnvTexel {
 
 struct LightEmitter {
   LightKind kind = LightKind::triangle;
-  Vec3 p0, p1, p2;      // triangle vertices; sphere: p0 = centre; point: p0 = position
-  Vec3 n;               // triangle geometric normal
-  float area = 0;       // triangle area; sphere: radius in `radius`
-  float radius = 0;
   bool flip = false;    // sphere normals inward
   bool two_sided = false;
-  Rgb radiance;         // L (area emitters) or I (point light)
+  Vec3 p0, p1, p2;      // triangle vertices; sphere: p0 = centre; point, spot: p0 = position;
+                        // distant: p0 = unit direction toward the light
+  Vec3 n;               // triangle geometric normal; spot: unit cone axis
+  float area = 0;       // triangle area; sphere: radius in `radius`
+  float radius = 0;
+  float cos_falloff_start = 1, cos_falloff_end = 1;  // spot: cosines of the full-intensity and outer cone
+  Rgb radiance;         // L (area emitters, distant) or I (point, spot: on the axis)
   float power = 0;
 };
 
@@ -102,6 +108,20 @@ namespace lights_detail {
 inline constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
 RESTIR_HD inline bool finite_positive(float v) { return v > 0 && std::isfinite(v); }
+
+}  // namespace lights_detail
+
+// pbrt-v4's spot falloff (SpotLight::I): SmoothStep(cos_end, cos_start, cos_theta) -- 0 outside
+// the outer cone (cos_theta <= cos_end), 1 inside the full-intensity cone (cos_theta >= cos_start),
+// 3t^2 - 2t^3 with t = (cos_theta - cos_end) / (cos_start - cos_end) between; a hard edge when the
+// two cones coincide (conedeltaangle 0).
+RESTIR_HD inline float spot_falloff(float cos_theta, float cos_end, float cos_start) {
+  if (cos_end == cos_start) return cos_theta < cos_end ? 0.0f : 1.0f;
+  const float t = clamp((cos_theta - cos_end) / (cos_start - cos_end), 0.0f, 1.0f);
+  return t * t * (3 - 2 * t);
+}
+
+namespace lights_detail {
 
 // Light-space direction <-> equirect (u, v) (pbrt-v3 InfiniteAreaLight: u = phi / 2pi, v = theta / pi).
 RESTIR_HD inline Vec2 equirect_uv(Vec3 w) {
@@ -157,7 +177,7 @@ RESTIR_HD inline Vec2 equal_area_sphere_to_square(Vec3 w) {
 }
 
 struct LightsView {
-  // Emitters (one per emissive triangle, emissive sphere, point light, and the environment).
+  // Emitters (one per emissive triangle, emissive sphere, point, spot and distant light, and the environment).
   const LightEmitter* emitters = nullptr;
   uint32_t num_emitters = 0;
   AliasTableView selection;                 // over the emitters: by power or uniform
@@ -196,6 +216,23 @@ struct LightsView {
   RESTIR_HD Rgb point_intensity(uint32_t emitter) const {
     return emitter < num_emitters && emitters[emitter].kind == LightKind::point ? emitters[emitter].radiance : Rgb(0);
   }
+  // Point, spot and distant lights: no ray reaches them (see LightKind).
+  RESTIR_HD bool is_delta(uint32_t emitter) const {
+    if (emitter >= num_emitters) return false;
+    const LightKind k = emitters[emitter].kind;
+    return k == LightKind::point || k == LightKind::spot || k == LightKind::distant;
+  }
+  // The environment and distant lights: a light point is a direction, shadow rays are unbounded.
+  RESTIR_HD bool at_infinity(uint32_t emitter) const {
+    if (emitter >= num_emitters) return false;
+    const LightKind k = emitters[emitter].kind;
+    return k == LightKind::environment || k == LightKind::distant;
+  }
+  // What a delta light sends toward a receiver in direction wi (unit, from the receiver toward the
+  // light): the intensity I toward -wi for point and spot lights (to be divided by d^2), the
+  // radiance L for a distant light (pbrt-v4 PointLight / SpotLight / DistantLight::SampleLi); 0 for
+  // every other emitter. A distant light's wi is taken to be its direction (its only light point).
+  RESTIR_HD Rgb delta_emission(uint32_t emitter, Vec3 wi) const;
   RESTIR_HD float selection_pmf(uint32_t emitter) const { return selection.pmf(emitter); }
   RESTIR_HD uint32_t triangle_emitter(uint32_t mesh, uint32_t triangle) const {
     if (mesh >= num_meshes || mesh_first[mesh] == kNoEmitter) return kNoEmitter;
@@ -243,7 +280,8 @@ struct LightsView {
   RESTIR_HD Vec3 normal_at(uint32_t emitter, Vec3 position) const;
   // Where a point on emitter e of `before` (the same scene's lights one frame earlier) is now: an
   // animated emitter carries its points along (same barycentrics on a triangle, same offset from a
-  // sphere's centre, the point light's position, the environment direction turned with the map).
+  // sphere's centre, a point or spot light's position, a distant light's direction, the environment
+  // direction turned with the map).
   // Rigid motion keeps area, so the map's Jacobian is 1 in the emitters' area measure. false when
   // e is not the same kind of emitter in both (the sample must be dropped).
   RESTIR_HD bool follow(uint32_t e, const LightsView& before, Vec3& position, Vec3& normal) const;

@@ -1,6 +1,7 @@
 // LightsView's per-sample bodies (included at the end of scene/lights_view.h; do not include
 // directly). Light selection and sampling (our code, following pbrt-v4's DiffuseAreaLight,
-// Triangle/Sphere ::Sample(ctx, u), PointLight and Uniform/ImageInfiniteLight; PBR4 ch. 6 and 12).
+// Triangle/Sphere ::Sample(ctx, u), PointLight, SpotLight, DistantLight and Uniform/ImageInfiniteLight;
+// PBR4 ch. 6 and 12).
 #pragma once
 #include "scene/lights_view.h"
 
@@ -17,10 +18,23 @@ RESTIR_HD inline Rgb LightsView::emitted(uint32_t emitter, Vec3 n, Vec3 w) const
   switch (e.kind) {
     case LightKind::triangle:
     case LightKind::sphere: return emitted_by(e, n, w);
-    case LightKind::point: return Rgb(0);
+    case LightKind::point:
+    case LightKind::spot:
+    case LightKind::distant: return Rgb(0);  // delta lights: no surface to see
     case LightKind::environment: return environment_radiance(-w);
   }
   return Rgb(0);
+}
+
+RESTIR_HD inline Rgb LightsView::delta_emission(uint32_t emitter, Vec3 wi) const {
+  if (emitter >= num_emitters) return Rgb(0);
+  const LightEmitter& e = emitters[emitter];
+  switch (e.kind) {
+    case LightKind::point:
+    case LightKind::distant: return e.radiance;
+    case LightKind::spot: return e.radiance * spot_falloff(-dot(e.n, wi), e.cos_falloff_end, e.cos_falloff_start);
+    default: return Rgb(0);
+  }
 }
 
 RESTIR_HD inline Vec3 LightsView::normal_at(uint32_t emitter, Vec3 position) const {
@@ -63,6 +77,8 @@ RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPo
       break;
     }
     case LightKind::point:
+    case LightKind::spot:
+    case LightKind::distant:  // p0: the position, or the distant light's direction
       out.position = e.p0;
       out.pdf = pmf;
       break;
@@ -85,7 +101,9 @@ RESTIR_HD inline float LightsView::point_pdf(uint32_t emitter, Vec3 position) co
   switch (e.kind) {
     case LightKind::triangle: return e.area > 0 ? pmf / e.area : 0.0f;
     case LightKind::sphere: return pmf / (4 * kPi * e.radius * e.radius);
-    case LightKind::point: return pmf;
+    case LightKind::point:
+    case LightKind::spot:
+    case LightKind::distant: return pmf;
     case LightKind::environment: return pmf * environment_pdf_unselected(position);
   }
   return 0;
@@ -116,20 +134,30 @@ RESTIR_HD inline bool LightsView::sample_emitter(uint32_t idx, Vec3 p, Vec2 u, L
   switch (e.kind) {
     case LightKind::triangle: ok = sample_triangle(e, p, u, out); break;
     case LightKind::sphere: ok = sample_sphere(e, p, u, out); break;
-    case LightKind::point: {
+    case LightKind::point:
+    case LightKind::spot: {
       Vec3 d = e.p0 - p;
       float dist2 = length_squared(d);
       if (!finite_positive(dist2)) break;
       float dist = std::sqrt(dist2);
       out.wi = d / dist;
       out.distance = dist;
-      out.radiance = e.radiance / dist2;  // I / d^2 (PBR4 PointLight::SampleLi)
+      out.radiance = delta_emission(idx, out.wi) / dist2;  // I(-wi) / d^2 (PBR4 PointLight, SpotLight::SampleLi)
       out.pdf = 1;
       out.is_delta = true;
       out.position = e.p0;
       ok = is_finite(out.radiance);
       break;
     }
+    case LightKind::distant:  // L from one direction: no 1/d^2 (PBR4 DistantLight::SampleLi)
+      out.wi = e.p0;
+      out.distance = kInfinity;
+      out.radiance = e.radiance;
+      out.pdf = 1;
+      out.is_delta = true;
+      out.position = e.p0;
+      ok = is_finite(out.radiance);
+      break;
     case LightKind::environment: ok = sample_environment(u, out); break;
   }
   if (!ok || !(out.pdf > 0) || !std::isfinite(out.pdf) || is_black(out.radiance)) {
@@ -323,7 +351,9 @@ RESTIR_HD inline float LightsView::pdf(uint32_t emitter, Vec3 p, Vec3 light_p, V
   if (!(pmf > 0)) return 0;
   const LightEmitter& e = emitters[emitter];
   switch (e.kind) {
-    case LightKind::point: return 0;
+    case LightKind::point:
+    case LightKind::spot:
+    case LightKind::distant: return 0;  // delta lights: no other strategy produces them
     case LightKind::environment: return environment_pdf(light_p);
     case LightKind::triangle: {
       if (!(e.area > 0)) return 0;
@@ -387,6 +417,8 @@ RESTIR_HD inline bool LightsView::follow(uint32_t idx, const LightsView& before,
       normal = normalize(position - now.p0) * (now.flip ? -1.0f : 1.0f);
       return is_finite(position);
     case LightKind::point:
+    case LightKind::spot:
+    case LightKind::distant:  // the one point (or direction) of a delta light is its current one
       position = now.p0;
       return true;
     case LightKind::environment:  // a direction: back into the old map's frame, out through the new one

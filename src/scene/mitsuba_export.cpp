@@ -77,6 +77,7 @@ class Exporter {
   void mesh(size_t i);
   void sphere(size_t i);
   void lights();
+  void spot(const SpotLight& l);
   void environment();
   std::string area_emitter(const AreaEmission& e, float area) const;
   bool textured(const Material& m) const { return m.reflectance_texture >= 0; }
@@ -307,7 +308,33 @@ void Exporter::lights() {
                         vec(l.position), rgb("intensity", l.intensity),
                         flt("sampling_weight", std::max(4 * kPi * luminance_pos(l.intensity), 1e-6f)));
   }
+  for (const SpotLight& l : scene_.spot_lights) spot(l);
+  for (const DistantLight& l : scene_.distant_lights) {
+    // Mitsuba's `direction` is the one the light travels: away from the light, -l.direction.
+    const float r = 0.5f * diag_;  // the power heuristic of lights.cpp: pi r^2 L
+    xml_ += fmt::format("  <emitter type=\"directional\"><vector name=\"direction\" value=\"{}\"/>{}{}</emitter>\n",
+                        vec(-l.direction), rgb("irradiance", l.radiance),
+                        flt("sampling_weight", std::max(kPi * r * r * luminance_pos(l.radiance), 1e-6f)));
+  }
   if (scene_.environment) environment();
+}
+
+// Mitsuba's spot: the cone along +z of to_world (a look-at from the position along the axis),
+// cutoff_angle = pbrt-v4's coneangle, beam_width = coneangle - conedeltaangle. Between the two
+// Mitsuba's falloff is linear in the angle, pbrt-v4's a smoothstep in the cosine (see the header).
+void Exporter::spot(const SpotLight& l) {
+  const Frame f = Frame::from_normal(l.direction);  // f.s: an up vector perpendicular to the axis
+  const float cos_start = l.cos_falloff_start(), cos_end = l.cos_falloff_end();
+  const float power = 2 * kPi * luminance_pos(l.intensity) * ((1 - cos_start) + (cos_start - cos_end) / 2);
+  // Mitsuba needs beam_width < cutoff_angle: a hard edge (conedeltaangle 0) keeps a tiny band.
+  const float beam = std::min(l.cone_angle - l.cone_delta, l.cone_angle * (1 - 1e-6f));
+  if (l.cone_delta > 0) note(fmt::format("spot light at ({}): falloff band {} deg, linear in angle in Mitsuba, smoothstep in "
+                                         "cos theta in restir-lab (pbrt-v4); the full-intensity cone agrees",
+                                         vec(l.position), num(l.cone_delta)));
+  xml_ += fmt::format("  <emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"{}\" target=\"{}\" up=\"{}\"/>"
+                      "</transform>{}{}{}{}</emitter>\n",
+                      vec(l.position), vec(l.position + l.direction), vec(f.s), rgb("intensity", l.intensity),
+                      flt("cutoff_angle", l.cone_angle), flt("beam_width", beam), flt("sampling_weight", std::max(power, 1e-6f)));
 }
 
 // The environment as Mitsuba sees it: texels centred at Mitsuba's positions (theta = j / (H - 1)

@@ -20,6 +20,12 @@
 //   identity) by evaluating restir-lab's lookup at Mitsuba's texel positions, which covers both
 //   the equirect and the equal-area octahedral maps and any orientation; Mitsuba interpolates
 //   bilinearly where restir-lab looks up the nearest texel (a slight blur, same integral).
+// - point, spot, distant lights: Mitsuba's `point`, `spot` and `directional` (irradiance = L,
+//   direction = the one the light travels). A spot's cone: cutoff_angle = coneangle, beam_width =
+//   coneangle - conedeltaangle, full intensity within beam_width in both. Between the two the
+//   renderers differ by design: Mitsuba's falloff is linear in the angle, (cutoff - theta) /
+//   (cutoff - beam_width), pbrt-v4's (and restir-lab's) is smoothstep in cos theta; the export notes
+//   it for a spot with a falloff band (compare inside the full-intensity cone, or account for it).
 // - camera: to_world = world_from_camera * Scale(-1, 1, 1) (pbrt's camera space is left-handed,
 //   Mitsuba's image x runs along -x), fov_axis "smaller" (pbrt-v4's fov spans the shorter axis).
 // - max depth: restir-lab counts bounces (1 = direct lighting), Mitsuba counts path vertices

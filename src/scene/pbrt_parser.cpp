@@ -7,7 +7,7 @@
 // ObjectInstance (flattened), Include/Import, Shape (trianglemesh, plymesh, sphere, and the project
 // extensions objmesh/gltfmesh), Material/MakeNamedMaterial/NamedMaterial (diffuse, conductor,
 // dielectric), Texture (imagemap, checkerboard, constant, scale), AreaLightSource "diffuse",
-// LightSource "infinite"/"point". ColorSpace, Option, Attribute: ignored with a warning.
+// LightSource "infinite"/"point"/"spot"/"distant". ColorSpace, Option, Attribute: ignored with a warning.
 // Media and everything else: SceneError "FILE:LINE: ...".
 //
 // Paths (plymesh, textures, env maps) are resolved as pbrt-v4 does, against the directory of the

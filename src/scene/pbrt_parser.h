@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/loader.h"
@@ -83,6 +84,9 @@ class Parser {
   void texture(const Token& d, const std::string& name, const std::string& type, const std::string& cls, const ParamList& pl);
   // pbrt_shapes.cpp
   void light(const Token& d, const std::string& type, const ParamList& pl);
+  void spot_light(const Token& d, const ParamList& pl, float scale);
+  void distant_light(const Token& d, const ParamList& pl, float scale);
+  std::pair<Vec3, Vec3> light_from_to(const Token& d, const ParamList& pl, const std::string& what);
   void shape(const Token& d, const std::string& type, const ParamList& pl);
   // shape()'s kinds, each under the start transform xf (shape() fills in what they share)
   void add_shape(const Token& d, const std::string& type, const ParamList& pl, std::vector<TriangleMesh>& out);

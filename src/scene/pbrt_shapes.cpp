@@ -62,9 +62,73 @@ void Parser::light(const Token& d, const std::string& type, const ParamList& pl)
     pl.check_unused("LightSource \"infinite\"");
     e.animation = gs_.light_animation;
     scene_.environment = std::move(e);
+  } else if (type == "spot") {
+    spot_light(d, pl, sc);
+  } else if (type == "distant") {
+    distant_light(d, pl, sc);
   } else {
-    d.fail("unsupported light '" + type + "' (supported: point, infinite, and AreaLightSource \"diffuse\")");
+    d.fail("unsupported light '" + type + "' (supported: point, spot, distant, infinite, and AreaLightSource \"diffuse\")");
   }
+}
+
+// "from" and "to" of a spot or distant light under the CTM: both in world space, or a one-line
+// error naming the parameter (pbrt-v4 would normalize a zero vector into NaNs).
+std::pair<Vec3, Vec3> Parser::light_from_to(const Token& d, const ParamList& pl, const std::string& what) {
+  auto fail = [&](const char* name, const std::string& msg) {  // at the parameter when it was given
+    if (const Param* p = pl.find(name)) p->fail(msg);
+    d.fail(msg);
+  };
+  const Vec3 from = gs_.ctm[0].apply_point(pl.get_point3("from", Vec3(0)));
+  const Vec3 to = gs_.ctm[0].apply_point(pl.get_point3("to", Vec3(0, 0, 1)));
+  const std::pair<const char*, Vec3> ends[] = {{"from", from}, {"to", to}};
+  for (const auto& [name, p] : ends)
+    if (!within_world(p)) fail(name, what + ": \"" + name + "\" lies beyond the supported world extent after the transform");
+  if (!(length(to - from) > 0))
+    fail(pl.find("to") ? "to" : "from", what + ": \"from\" and \"to\" coincide (after the transform): the light has no direction");
+  return {from, to};
+}
+
+// pbrt-v4 SpotLight::Create: the cone's axis from "from" toward "to", full intensity within
+// coneangle - conedeltaangle of it, smoothstep falloff in cos theta out to coneangle (degrees).
+// pbrt-v4 checks no angles; a cone outside (0, 180] or a band wider than the cone (or negative) is
+// refused here, as is a transform that is not a similarity (it would make the cone elliptical).
+// "power" is not read, as for point lights.
+void Parser::spot_light(const Token& d, const ParamList& pl, float scale) {
+  pl.check_range("coneangle", 0, 180, true);
+  pl.check_range("conedeltaangle", 0);
+  SpotLight l;
+  l.cone_angle = pl.get_float("coneangle", 30);
+  l.cone_delta = pl.get_float("conedeltaangle", 5);
+  if (l.cone_delta > l.cone_angle) {
+    const std::string msg = fmt::format("conedeltaangle {} exceeds coneangle {}: the falloff band must lie within the cone",
+                                        format_number(l.cone_delta), format_number(l.cone_angle));
+    pl.find("conedeltaangle")->fail(msg);
+  }
+  float uniform = 0;
+  if (!uniform_scale(gs_.ctm[0], uniform))
+    d.fail("spot light: the transform must be a rotation, translation and uniform scale (a shear or non-uniform scale would "
+           "distort the cone)");
+  l.intensity = pl.get_rgb("I", true).value_or(Rgb(1)) * scale;
+  const auto [from, to] = light_from_to(d, pl, "spot light");
+  l.position = from;
+  l.direction = normalize(to - from);
+  pl.check_unused("LightSource \"spot\"");
+  l.animation = gs_.light_animation;
+  scene_.spot_lights.push_back(l);
+}
+
+// pbrt-v4 DistantLight::Create: radiance L arriving from direction from - to (the CTM applies to
+// both points); "illuminance" E_v > 0 multiplies the scale, as pbrt-v4 does once the spectrum is
+// normalized to 1 nit (so rgb L (1,1,1) with illuminance E gives an irradiance E at normal incidence).
+void Parser::distant_light(const Token& d, const ParamList& pl, float scale) {
+  pl.check_range("illuminance", 0, HUGE_VAL, true);
+  DistantLight l;
+  l.radiance = pl.get_rgb("L", true).value_or(Rgb(1)) * scale * pl.get_float("illuminance", 1);
+  const auto [from, to] = light_from_to(d, pl, "distant light");
+  l.direction = normalize(from - to);
+  pl.check_unused("LightSource \"distant\"");
+  l.animation = gs_.light_animation;
+  scene_.distant_lights.push_back(l);
 }
 
 TriangleMesh Parser::triangle_mesh_shape(const Token& d, const ParamList& pl, const Mat4& xf) {

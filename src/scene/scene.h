@@ -86,6 +86,26 @@ struct PointLight {
   int animation = -1;
 };
 
+// pbrt-v4 "spot": a point light whose intensity toward a unit direction w (from the light) is
+// I * smoothstep(cos_falloff_end, cos_falloff_start, dot(direction, w)) (pbrt-v4 SpotLight::I).
+struct SpotLight {
+  Vec3 position;
+  Vec3 direction{0, 0, 1};       // unit cone axis, world space (normalize(to - from) under the CTM)
+  Rgb intensity{1};              // I (W/sr) on the axis, scale applied
+  float cone_angle = 30;         // degrees: total width (pbrt-v4 "coneangle"); kept for the exporter
+  float cone_delta = 5;          // degrees: width of the falloff band ("conedeltaangle")
+  float cos_falloff_start() const { return std::cos((cone_angle - cone_delta) * kPi / 180); }
+  float cos_falloff_end() const { return std::cos(cone_angle * kPi / 180); }
+  int animation = -1;            // moves position and axis rigidly, scales intensity
+};
+
+// pbrt-v4 "distant": radiance L arriving along one direction from infinitely far (delta direction).
+struct DistantLight {
+  Vec3 direction{0, 0, 1};       // unit, world space, TOWARD the light (normalize(from - to) under the CTM)
+  Rgb radiance{1};               // L, scale (and illuminance) applied
+  int animation = -1;            // turns the direction (its translation is ignored), scales radiance
+};
+
 // Infinite light: constant radiance, or an HDR image in equirectangular (2:1, as most HDRI sites
 // ship) or pbrt-v4's equal-area octahedral (square) parameterization.
 struct EnvironmentLight {
@@ -147,6 +167,8 @@ struct Scene {
   std::vector<Material> materials;   // index 0 always exists (default diffuse 0.5)
   std::vector<Texture> textures;
   std::vector<PointLight> point_lights;
+  std::vector<SpotLight> spot_lights;
+  std::vector<DistantLight> distant_lights;
   std::optional<EnvironmentLight> environment;
   // Keyframed motion of the shapes and lights whose `animation` indexes it (animation.h); the
   // geometry above is the rest pose, animate_scene() gives frame f.

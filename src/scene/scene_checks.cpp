@@ -82,6 +82,22 @@ void check_lights_and_camera(const Scene& s) {
     check_point(where, "position", s.point_lights[i].position);
     if (!non_negative(s.point_lights[i].intensity)) fail(where, "intensity must be finite and >= 0");
   }
+  for (size_t i = 0; i < s.spot_lights.size(); ++i) {
+    const SpotLight& l = s.spot_lights[i];
+    std::string where = fmt::format("{}: spot light {}", s.source_path, i);
+    check_point(where, "position", l.position);
+    if (!non_negative(l.intensity)) fail(where, "intensity must be finite and >= 0");
+    if (!(std::fabs(length(l.direction) - 1) < 1e-3f)) fail(where, fmt::format("direction {} is not a unit vector", str(l.direction)));
+    if (!(l.cone_angle > 0 && l.cone_angle <= 180 && l.cone_delta >= 0 && l.cone_delta <= l.cone_angle))
+      fail(where, fmt::format("cone angle {} and falloff band {} must satisfy 0 <= band <= angle, 0 < angle <= 180", l.cone_angle,
+                              l.cone_delta));
+  }
+  for (size_t i = 0; i < s.distant_lights.size(); ++i) {
+    const DistantLight& l = s.distant_lights[i];
+    std::string where = fmt::format("{}: distant light {}", s.source_path, i);
+    if (!non_negative(l.radiance)) fail(where, "radiance must be finite and >= 0");
+    if (!(std::fabs(length(l.direction) - 1) < 1e-3f)) fail(where, fmt::format("direction {} is not a unit vector", str(l.direction)));
+  }
   if (const auto& e = s.environment) {
     std::string where = e->filename.empty() ? s.source_path : e->filename;
     if (!non_negative(e->radiance)) fail(where, "environment radiance must be finite and >= 0");
@@ -113,6 +129,10 @@ bool scene_has_lights(const Scene& s) {
   if (s.environment) return true;
   for (const PointLight& l : s.point_lights)
     if (max_component(l.intensity) > 0) return true;
+  for (const SpotLight& l : s.spot_lights)
+    if (max_component(l.intensity) > 0) return true;
+  for (const DistantLight& l : s.distant_lights)
+    if (max_component(l.radiance) > 0) return true;
   for (const TriangleMesh& m : s.meshes)
     if (m.emission && max_component(m.emission->radiance) > 0) return true;
   for (const Sphere& sp : s.spheres)
@@ -122,7 +142,7 @@ bool scene_has_lights(const Scene& s) {
 
 void warn_if_no_lights(const Scene& scene) {
   if (!scene_has_lights(scene))
-    std::fprintf(stderr, "%s: warning: the scene has no light source (no emitting shape, point or environment light): "
+    std::fprintf(stderr, "%s: warning: the scene has no light source (no emitting shape, point, spot, distant or environment light): "
                  "the image will be black\n", scene.source_path.c_str());
 }
 

@@ -85,6 +85,18 @@ inline std::vector<BadCase> bad_input_cases() {
       {"LightSource \"infinite\" \"rgb L\" [V 1 1]", {"nan", "-1", "inf"}, "\"rgb L\""},
       {"LightSource \"infinite\" \"float scale\" [V]", {"nan", "-0.5"}, "\"float scale\""},
       {"LightSource \"point\" \"spectrum I\" [V]", {"nan", "-3"}, "\"spectrum I\""},
+      // Spot: a cone in (0, 180], a falloff band in [0, coneangle] (default coneangle 30), from != to.
+      {"LightSource \"spot\" \"float coneangle\" [V]", {"0", "-10", "180.5", "1e39", "nan"}, "\"float coneangle\""},
+      {"LightSource \"spot\" \"float conedeltaangle\" [V]", {"-1", "30.5", "nan"}, "\"float conedeltaangle\""},
+      {"LightSource \"spot\" \"float coneangle\" 10 \"float conedeltaangle\" [V]", {"11", "90"}, "\"float conedeltaangle\""},
+      {"LightSource \"spot\" \"rgb I\" [V 1 1]", {"nan", "inf", "-1"}, "\"rgb I\""},
+      {"LightSource \"spot\" \"point3 to\" [V 0 0]", {"nan", "1e30"}, "\"point3 to\""},
+      {"LightSource \"spot\" \"point3 from\" [0 0 V]", {"1"}, "\"point3 from\""},  // the default "to"
+      // Distant: from != to, L >= 0, illuminance > 0.
+      {"LightSource \"distant\" \"point3 to\" [0 0 V]", {"0"}, "\"point3 to\""},
+      {"LightSource \"distant\" \"point3 from\" [1 2 3] \"point3 to\" [1 2 V]", {"3"}, "\"point3 to\""},
+      {"LightSource \"distant\" \"rgb L\" [V 1 1]", {"nan", "-1", "inf"}, "\"rgb L\""},
+      {"LightSource \"distant\" \"float illuminance\" [V]", {"0", "-1", "nan"}, "\"float illuminance\""},
       // Materials: reflectance in [0, 1], eta > 0, k >= 0, roughness >= 0.
       {"Material \"diffuse\" \"rgb reflectance\" [V 0.5 0.5]", {"nan", "inf", "-0.1", "1.5", "1e39"}, "\"rgb reflectance\""},
       {"Material \"diffuse\" \"spectrum reflectance\" [V]", {"2", "-1"}, "\"spectrum reflectance\""},
@@ -136,6 +148,10 @@ inline std::vector<BadCase> bad_input_cases() {
       if (!p.param.empty()) c.expect.push_back(p.param);
       v.push_back(c);
     }
+
+  // A spot cone cannot follow a non-uniform scale (pbrt-v4's would turn elliptical).
+  v.push_back({"spot under a non-uniform scale", {{"s.pbrt", world_line("Scale 1 2 1\nLightSource \"spot\"")}}, kRender, 1,
+               {"s.pbrt:9", "spot light", "uniform scale"}});
 
   // Geometry that is finite per value but absurd in the world (Embree crashed on these).
   v.push_back({"Scale 1e30 on a mesh", {{"s.pbrt", world_line("Scale 1e30 1e30 1e30\nShape \"trianglemesh\" \"point3 P\" "

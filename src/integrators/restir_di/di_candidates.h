@@ -8,7 +8,7 @@
 // candidates in the same order: draw, then evaluate). Every lane computes exactly what
 // LightsView::sample_emitter, di_detail::view_light and di_value compute for one candidate -- the
 // same operations in the same order, so the results are bitwise those of the scalar path (a test
-// holds that); the kinds the batch does not cover (point lights, the environment, a receiver
+// holds that); the kinds the batch does not cover (delta lights, the environment, a receiver
 // inside a sphere, non-Lambertian BSDFs for the BSDF terms) fall back to those functions.
 #pragma once
 #include <cstdint>
@@ -187,7 +187,7 @@ RESTIR_HD inline void finish_lanes(const Lanes& __restrict__ l, const Points& __
 
 // Evaluates the batch's sphere and triangle candidates as seen from s (wo_l: s.wo in its shading
 // frame): b.valid, q, target, light_pdf and (with bsdf_pdfs) bsdf_pdf. Returns a mask of the
-// candidates left to the scalar path (bit i set: point lights, the environment, a receiver inside
+// candidates left to the scalar path (bit i set: delta lights, the environment, a receiver inside
 // the sphere); their outputs are not written.
 RESTIR_HD inline uint32_t di_eval_light_candidates(const LightsView& lights, const GSurface& s, Vec3 wo_l, bool bsdf_pdfs,
                                                    DiCandidateBatch& b) {

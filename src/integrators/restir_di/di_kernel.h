@@ -12,7 +12,7 @@ namespace rl {
 // so that a ReSTIR DI reservoir is 32 bytes, the size of RTXDI's packed reservoir (Wyman and
 // Panteleev 2021, §5; RTXDI's RTXDI_PackedDIReservoir).
 struct LightPoint {
-  Vec3 position;               // on the emitter; the direction itself for the environment
+  Vec3 position;               // on the emitter; the direction itself for the environment and distant lights
   uint32_t emitter = kNoEmitter;
 };
 
@@ -45,9 +45,12 @@ namespace di_detail {
 
 // Light point y as seen from surface s: the direction (world and shading frame), the radiance
 // arriving along it and g, the geometry factor of the DI integrand -- |cos θ_l| / d² for area
-// emitters, 1 / d² for point lights, 1 for the environment -- which is also the Jacobian from solid
-// angle at s to y's sample measure (area, counting, solid angle: Veach 1997 §8.2.2.2). Computed once
-// per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
+// emitters, 1 / d² for point and spot lights, 1 for the environment and distant lights -- which is
+// also the Jacobian from solid angle at s to y's sample measure (area, counting, solid angle: Veach
+// 1997 §8.2.2.2; for the delta lights it only scales, as no BSDF density converts through it).
+// Computed once per candidate and shared by the target, the BSDF strategy's pdf and the shadow ray.
+// A spot's intensity depends on the direction to s, so a reused spot sample is re-evaluated at
+// every receiver (as its 1 / d² is).
 struct LightView {
   Vec3 wi, wi_l;
   Vec3 n;  // the emitter's geometric normal at y (LightsView::normal_at; zero for points and the environment)
@@ -63,12 +66,18 @@ RESTIR_HD inline bool view_light(const LightsView& lights, const GSurface& s, co
       v.le = lights.environment_radiance(v.wi);
       v.g = 1;
       break;
-    case LightKind::point: {
+    case LightKind::distant:
+      v.wi = y.position;
+      v.le = lights.delta_emission(y.emitter, v.wi);
+      v.g = 1;
+      break;
+    case LightKind::point:
+    case LightKind::spot: {
       const Vec3 d = y.position - s.p;
       const float d2 = length_squared(d);
       if (!(d2 > 0)) return false;
       v.wi = d / std::sqrt(d2);
-      v.le = lights.point_intensity(y.emitter);
+      v.le = lights.delta_emission(y.emitter, v.wi);
       v.g = 1 / d2;
       break;
     }
@@ -98,8 +107,10 @@ RESTIR_HD inline Rgb di_value(const GSurface& s, Vec3 wo_l, const LightView& v) 
 // The ray that tests the visibility of y from s.
 RESTIR_HD inline Ray di_shadow_ray(const LightsView& lights, const GSurface& s, const LightPoint& y, const LightView& v, float eps) {
   switch (lights.kind(y.emitter)) {
-    case LightKind::environment: return spawn_ray(s.p, s.ng, v.wi, eps);
-    case LightKind::point: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
+    case LightKind::environment:
+    case LightKind::distant: return spawn_ray(s.p, s.ng, v.wi, eps);
+    case LightKind::point:
+    case LightKind::spot: return spawn_ray_to(s.p, s.ng, y.position, Vec3(0), eps);
     default: return spawn_ray_to(s.p, s.ng, y.position, v.n, eps);
   }
 }
@@ -107,7 +118,7 @@ RESTIR_HD inline Ray di_shadow_ray(const LightsView& lights, const GSurface& s, 
 // Density of the light strategy at y for the receiver s (selection pmf x Lights::sample_emitter's
 // density), in y's sample measure.
 RESTIR_HD inline float light_density(const LightsView& lights, const GSurface& s, const LightPoint& y, const LightView& v) {
-  if (lights.kind(y.emitter) == LightKind::point) return lights.selection_pmf(y.emitter);
+  if (lights.is_delta(y.emitter)) return lights.selection_pmf(y.emitter);  // counting measure
   return lights.pdf(y.emitter, s.p, y.position, v.n) * v.g;
 }
 

@@ -2,7 +2,7 @@
 // the shading, RESTIR_HD over a FrameWorld and its Tracer (frame_world.h), so that every backend
 // runs one implementation of every weight (EmbreeTracer on the CPU, BvhTracer on the others).
 // A DI sample is a point on an emitter (area measure), a direction of the environment (solid
-// angle) or a point light (counting measure) (Bitterli et al. 2020, §3-4). These measures do not
+// angle) or a delta light -- point, spot or distant -- (counting measure) (Bitterli et al. 2020, §3-4). These measures do not
 // depend on the shading point, so the shift between pixels is the identity with jacobian 1 and a
 // reservoir can be reused as is.
 #pragma once
@@ -89,8 +89,8 @@ class DiInitialResampler {
   RESTIR_HD float weight(const LightPoint& y, const di_detail::LightView& v, float target, float light_pdf, bool shadow_test) const {
     if (!(target > 0)) return 0.0f;
     const float p_light = light_pdf >= 0 ? light_pdf : di_detail::light_density(L_, s_, y, v);
-    float p_bsdf = 0;  // BSDF sampling never hits a point light
-    if (mb_ > 0 && L_.kind(y.emitter) != LightKind::point) {
+    float p_bsdf = 0;  // BSDF sampling never hits a delta light
+    if (mb_ > 0 && !L_.is_delta(y.emitter)) {
       p_bsdf = bsdf_pdf(s_.bsdf, wo_l_, v.wi_l) * v.g;
       if (shadow_test && bsdf_visibility_ && p_bsdf > 0 && tracer_.occluded(di_detail::di_shadow_ray(L_, s_, y, v, eps_))) p_bsdf = 0;
     }
@@ -128,7 +128,7 @@ class DiInitialResampler {
 };
 
 // One light candidate evaluated on its own: on the GPU every candidate (a thread is already one
-// lane of a SIMT vector), on the CPU the kinds the batch leaves (point lights, the environment, a
+// lane of a SIMT vector), on the CPU the kinds the batch leaves (delta lights, the environment, a
 // receiver inside a sphere).
 template <class Tracer>
 RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, float pmf, Vec2 u, float u_stream, const DiTileView& tile) {
@@ -149,7 +149,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, fl
   LightView v;
   const float t = di_detail::view_light(L_, s_, y, v) ? luminance(di_detail::di_value(s_, wo_l_, v)) : 0.0f;
   // sample_emitter's solid-angle density times the selection pmf, in y's sample measure.
-  const float light_pdf = L_.kind(e) == LightKind::point ? pmf : ls.pdf * pmf * v.g;
+  const float light_pdf = L_.is_delta(e) ? pmf : ls.pdf * pmf * v.g;
   restir::stream(r_, y, t, weight(y, v, t, light_pdf, true), u_stream);
 }
 

@@ -2,9 +2,10 @@
 // sampling: foundations of ReSTIR", §5-7).
 //
 // A path x̄ = (x_1, ..., x_n) starts at the pixel's primary hit x_1 and ends on an emitter x_n (a
-// point on an area light, a point light, or an environment direction). It is parameterized by the
-// solid angles of the directions sampled at x_1..x_{n-2} (or x_{n-1} for BSDF-terminated paths)
-// and the emitter point's area (solid angle for the environment): f(x̄) = Π f_s|cos| × Le × G.
+// point on an area light, a point or spot light, an environment direction, or a distant light's
+// direction). It is parameterized by the solid angles of the directions sampled at x_1..x_{n-2} (or
+// x_{n-1} for BSDF-terminated paths) and the emitter point's area (solid angle for the environment,
+// counting for the delta lights): f(x̄) = Π f_s|cos| × Le × G.
 // Each path carries how its last vertex was sampled (NEE or BSDF — "tag" t), and the integrand of
 // the tagged space is m_t(x̄) f(x̄) with the balance heuristic m_t over the two strategies, so that
 // the tags partition ∫ f exactly (GRIS with per-path strategies).
@@ -36,8 +37,8 @@ struct PathSample {
   bool nee = false;        // tag: last vertex sampled by next-event estimation (else by the BSDF)
   int rc = 0;              // reconnection vertex k in [2, n]; 0 = none (pure replay)
   // Reconnection vertex x_k (valid when rc > 0).
-  Vec3 rc_position;        // x_k; the direction for an environment emitter
-  Vec3 rc_normal;          // geometric normal at x_k (zero for point lights / environment)
+  Vec3 rc_position;        // x_k; the direction for an environment or distant emitter
+  Vec3 rc_normal;          // geometric normal at x_k (zero for delta lights / environment)
   uint32_t rc_emitter = 0xffffffffu;  // the emitter when k == n
   // x_k's BSDF and shading frame (k < n), kept as what rebuilds them bit for bit: the material
   // (the walk's x_k, k >= 2, is always a ray hit), the reflectance make_bsdf was given there (the

@@ -66,7 +66,7 @@ RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const Pa
   EmitterPoint ep;
   SampledEmitter sampled;
   if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
-  const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
+  const bool is_dir = world.lights.at_infinity(ep.emitter);
   if (check && emitter_reconnectable(ps, v, is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
   sampled.pdf = ep.pdf;
   const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);

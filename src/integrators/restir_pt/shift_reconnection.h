@@ -25,11 +25,13 @@ template <class Tracer>
 RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
                                  const ShiftPrefix& pre, Reconnected& r) {
   const Vertex& v = pre.v;
-  const bool is_dir = world.lights.kind(base.rc_emitter) == LightKind::environment;
+  const bool is_dir = world.lights.at_infinity(base.rc_emitter);
   // x_n's direction is the base path's, so the environment's radiance (Le G, G = 1) and density
   // there are the base path's too -- the same bits the lookup would give -- as long as the
   // lights are those that made the sample (always, unless the lights are animated). The lookup's
   // cache misses in the texel table were ~5% of a ReSTIR PT frame on the env-lit teapots (perf).
+  // (A distant light's L and pmf are the same for every receiver as well; eval_terminal reads them
+  // from the emitter, using only the kept density.)
   const SampledEmitter kept{base.rc_tail_light_pdf, base.rc_suffix};
   const bool reuse = is_dir && world.lights.fixed;
   const Terminal t = eval_terminal(world, ps, v, base.rc_emitter, base.rc_position, base.rc_normal, reuse ? &kept : nullptr);

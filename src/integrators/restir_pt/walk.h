@@ -67,21 +67,25 @@ RESTIR_HD inline bool rough(const Vertex& v, float threshold) { return !v.delta 
 RESTIR_HD inline bool reconnectable(const PathSettings& ps, const Vertex& a, const Vertex& b, float distance) {
   return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
 }
-// The same for an emitter vertex after v (emitters are diffuse: always rough; the environment is
-// infinitely far).
+// The same for an emitter vertex after v (emitters are diffuse: always rough; the environment and
+// distant lights are infinitely far).
 RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, float distance) {
   return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
 }
 
 // The last segment of a path: from vertex v to an emitter point (position = direction for the
-// environment). Everything the contribution and the strategies' densities need.
+// environment and distant lights). Everything the contribution and the strategies' densities need.
+// A delta light's vertex is a fixed point (point, spot) or direction (distant) whatever the
+// receiver, so a shift that reconnects to it has Jacobian 1 (counting measure), as for the
+// environment's direction; what changes is the emission toward the new receiver (a spot's falloff,
+// 1 / d²), which eval_terminal recomputes.
 struct Terminal {
   Rgb fcos{0};          // f_s(v) |cos| toward the emitter
-  Rgb emission{0};      // Le (point lights: intensity I)
-  float geometry = 0;   // area: |cos_l| / d²; point: 1 / d²; environment: 1
+  Rgb emission{0};      // Le (point, spot: the intensity toward v; distant: L)
+  float geometry = 0;   // area: |cos_l| / d²; point, spot: 1 / d²; environment, distant: 1
   float light_pdf = 0;  // density of Lights::sample_point at the emitter point (its own measure)
   float bsdf_pdf = 0;   // density of the direction sampling at v, in the emitter's measure
-  float measure = 0;    // solid angle at v -> the emitter's measure (area: |cos_l| / d²; env: 1; point: 0)
+  float measure = 0;    // solid angle at v -> the emitter's measure (area: |cos_l| / d²; env: 1; delta lights: 0)
   Vec3 wi;              // direction from v to the emitter
   Ray shadow;
 };
@@ -114,14 +118,22 @@ RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettin
       t.geometry = 1;
       t.shadow = spawn_ray(v.p, v.ng, t.wi, eps);
       break;
-    case LightKind::point: {
+    case LightKind::distant:
+      t.wi = pos;
+      t.emission = world.lights.delta_emission(emitter, t.wi);
+      t.geometry = 1;
+      to_measure = 0;  // BSDF sampling never reaches a delta light
+      t.shadow = spawn_ray(v.p, v.ng, t.wi, eps);
+      break;
+    case LightKind::point:
+    case LightKind::spot: {
       const Vec3 d = pos - v.p;
       const float d2 = length_squared(d);
       if (!(d2 > 0)) return t;
       t.wi = d / std::sqrt(d2);
-      t.emission = world.lights.point_intensity(emitter);
+      t.emission = world.lights.delta_emission(emitter, t.wi);
       t.geometry = 1 / d2;
-      to_measure = 0;  // BSDF sampling never reaches a point light
+      to_measure = 0;  // BSDF sampling never reaches a delta light
       t.shadow = spawn_ray_to(v.p, v.ng, pos, Vec3(0), eps);
       break;
     }
@@ -223,7 +235,7 @@ RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, 
   for (int k = 2; k <= n; ++k) {
     const Vertex& prev = w.v[size_t(k - 1)];
     if (!rough(prev, ps.pt.roughness_threshold)) continue;
-    if (k == n) {  // emitters are diffuse emitters: always reconnectable; the environment is infinitely far
+    if (k == n) {  // emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far
       if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.pt.distance_threshold) return k;
       continue;
     }
@@ -317,7 +329,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
       EmitterPoint ep;
       SampledEmitter sampled;
       if (world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) {
-        const bool is_dir = world.lights.kind(ep.emitter) == LightKind::environment;
+        const bool is_dir = world.lights.at_infinity(ep.emitter);
         sampled.pdf = ep.pdf;
         Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
         if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
