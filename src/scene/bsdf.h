@@ -48,6 +48,10 @@ RESTIR_HD inline Rgb bsdf_eval(const Bsdf&, Vec3 wo, Vec3 wi);    // 0 for delta
 RESTIR_HD inline float bsdf_pdf(const Bsdf&, Vec3 wo, Vec3 wi);   // solid-angle pdf of bsdf_sample; 0 for delta lobes
 // u_lobe picks reflection vs transmission (dielectric), u the direction. false = no sample.
 RESTIR_HD inline bool bsdf_sample(const Bsdf&, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& out);
+// The delta lobe of a BSDF that mixes one with non-delta lobes (bsdf_has_delta, not bsdf_is_delta:
+// a smooth coat) as a whole: its direction, f = its weight / |cos wi|, pdf 1 (no lobe choice), for
+// estimators that add the delta's part deterministically. false when there is none.
+RESTIR_HD inline bool bsdf_delta_lobe(const Bsdf&, Vec3 wo, BsdfSample& out);
 RESTIR_HD inline bool bsdf_is_delta(const Bsdf&);                 // every lobe is a delta (smooth conductor/dielectric)
 RESTIR_HD inline bool bsdf_has_delta(const Bsdf&);                // some lobe is a delta (the above, and a smooth coat)
 // Roughness of the sharpest NON-delta lobe: 1 for diffuse, sqrt(alpha_x*alpha_y) for GGX lobes; a

@@ -280,6 +280,14 @@ RESTIR_HD inline bool bsdf_has_delta(const Bsdf& b) {
   return bsdf_is_delta(b);
 }
 
+RESTIR_HD inline bool bsdf_delta_lobe(const Bsdf& b, Vec3 wo, BsdfSample& out) {
+  out = {};
+  if (b.type != Material::Type::coated_diffuse || !bsdf_has_delta(b) || wo.z == 0) return false;
+  const Vec3 wi{-wo.x, -wo.y, wo.z};  // the coat's mirror, weight F(cos o) (bsdf_coated.h)
+  out = {wi, Rgb(fresnel_dielectric(std::fabs(wo.z), b.ior) / std::fabs(wi.z)), 1.0f, true};
+  return is_finite(out.f);
+}
+
 RESTIR_HD inline float bsdf_roughness(const Bsdf& b) {
   if (b.type == Material::Type::diffuse) return 1.0f;
   // A smooth coat's only non-delta lobe is the diffuse base.

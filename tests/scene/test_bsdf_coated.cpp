@@ -241,6 +241,17 @@ TEST_CASE("coated: flags, roughness, reciprocity") {
   CHECK_FALSE(bsdf_has_delta(rough));
   CHECK_FALSE(bsdf_has_delta(coated(Rgb(0.5f), 1.0f, 0, 0)));  // index-matched: no coat to reflect
   CHECK(bsdf_roughness(smooth) == 1.0f);                       // its only non-delta lobe: the base
+  // The delta lobe whole (what ReSTIR DI adds deterministically): the mirror with weight F(cos o).
+  BsdfSample d;
+  REQUIRE(bsdf_delta_lobe(smooth, dir(50, 30), d));
+  CHECK(d.is_delta);
+  CHECK(d.pdf == 1.0f);
+  CHECK(d.wi.x == doctest::Approx(-dir(50, 30).x));
+  CHECK(d.f.x * d.wi.z == doctest::Approx(fresnel_dielectric(dir(50, 30).z, 1.5f)));
+  REQUIRE(bsdf_delta_lobe(smooth, -dir(50, 30), d));  // two-sided
+  CHECK(d.wi.z == doctest::Approx(-dir(50, 30).z));
+  CHECK_FALSE(bsdf_delta_lobe(rough, dir(50, 30), d));
+  CHECK_FALSE(bsdf_delta_lobe(dielectric(1.5f, 0), dir(50, 30), d));  // all-delta BSDFs are sampled
   CHECK(bsdf_roughness(rough) == doctest::Approx(0.4f));
   Pcg32 rng(9);
   for (const Bsdf& b : {smooth, rough})

@@ -261,10 +261,10 @@ RESTIR_HD inline DiReservoir di_initial_reservoir(const PathWorld& w, const Trac
 }
 
 // Direct light through a delta lobe (mirror, smooth glass, a smooth coat), which resampling cannot
-// handle: follows a BSDF-sampled direction and returns the throughput-weighted emission it sees when
-// the sample is a delta. For a BSDF that mixes a delta with non-delta lobes (coated diffuse) the
-// non-delta samples return 0 -- the reservoir covers those lobes -- and the delta's are weighted by
-// 1 / its lobe probability: an unbiased estimate of the delta lobe's part alone.
+// handle: follows the delta direction and returns the throughput-weighted emission it sees. A delta
+// BSDF's lobes are sampled (reflection or refraction); the delta lobe of a BSDF that mixes one with
+// non-delta lobes (coated diffuse; the reservoir covers the others) is followed whole, with its
+// weight (bsdf_delta_lobe): no lobe-choice noise.
 template <class Tracer>
 RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   BsdfSample bs;
@@ -272,7 +272,8 @@ RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const
   const Vec3 wo_l = shading.to_local(s.wo);
   const float u_lobe = rng.next_float();
   const Vec2 u = rng.next_2d();
-  if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0) || !bs.is_delta) return Rgb(0);
+  const bool ok = bsdf_is_delta(s.bsdf) ? bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) : bsdf_delta_lobe(s.bsdf, wo_l, bs);
+  if (!ok || !(bs.pdf > 0)) return Rgb(0);
   const Rgb beta = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
   const Vec3 wi = shading.to_world(bs.wi);
   Hit hit;
