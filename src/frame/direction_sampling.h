@@ -1,8 +1,8 @@
 // Direction sampling at a path vertex, shared by the path tracer and ReSTIR PT so that random
 // replay regenerates exactly the directions of the walk: the BSDF's own importance sampling, or
 // (bsdf_sampling = false, the thesis' fig. 4.7 toggle) the cosine-weighted hemisphere on wo's side
-// — both sides with probability 1/2 for transmissive materials. Delta BSDFs can only be sampled by
-// the BSDF.
+// — both sides with probability 1/2 for transmissive materials. BSDFs with a delta lobe (delta
+// BSDFs, a smooth coat) can only be sampled by the BSDF: the cosine would never find the delta.
 #pragma once
 #include "core/sampling.h"
 #include "scene/bsdf.h"
@@ -10,7 +10,7 @@
 namespace rl {
 
 RESTIR_HD inline bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, float u_lobe, Vec2 u, BsdfSample& s) {
-  if (use_bsdf || bsdf_is_delta(bsdf)) return bsdf_sample(bsdf, wo, u_lobe, u, s);
+  if (use_bsdf || bsdf_has_delta(bsdf)) return bsdf_sample(bsdf, wo, u_lobe, u, s);
   const bool transmissive = bsdf.type == Material::Type::dielectric;
   Vec3 wi = sample_cosine_hemisphere(u);
   float side = wo.z < 0 ? -1.0f : 1.0f;
@@ -28,10 +28,9 @@ RESTIR_HD inline bool sample_direction(const Bsdf& bsdf, bool use_bsdf, Vec3 wo,
   return true;
 }
 
-// Solid-angle density of sample_direction() (0 for delta BSDFs).
+// Solid-angle density of sample_direction() (0 for delta BSDFs; the non-delta lobes' for a mix).
 RESTIR_HD inline float direction_pdf(const Bsdf& bsdf, bool use_bsdf, Vec3 wo, Vec3 wi) {
-  if (use_bsdf) return bsdf_pdf(bsdf, wo, wi);
-  if (bsdf_is_delta(bsdf)) return 0;
+  if (use_bsdf || bsdf_has_delta(bsdf)) return bsdf_pdf(bsdf, wo, wi);
   float pdf = cosine_hemisphere_pdf(std::fabs(wi.z));
   if (bsdf.type == Material::Type::dielectric) return 0.5f * pdf;
   return (wo.z < 0) == (wi.z < 0) ? pdf : 0.0f;

@@ -1,6 +1,7 @@
 // The BSDF bodies (bsdf.h's functions), inline and RESTIR_HD so that the CUDA backend compiles
 // the same code. Our own code, following the semantics of pbrt-v4's DiffuseBxDF, ConductorBxDF
-// and DielectricBxDF (Pharr, Jakob, Humphreys, PBR 4th ed., ch. 9). Included by bsdf.h only.
+// and DielectricBxDF (Pharr, Jakob, Humphreys, PBR 4th ed., ch. 9); coated diffuse in
+// bsdf_coated.h. Included by bsdf.h only.
 #pragma once
 #include "core/sampling.h"
 #include "scene/microfacet.h"
@@ -189,6 +190,12 @@ RESTIR_HD inline bool dielectric_sample(const Bsdf& b, Vec3 wo, float u_lobe, Ve
 
 }  // namespace bsdf_detail
 
+}  // namespace rl
+
+#include "scene/bsdf_coated.h"
+
+namespace rl {
+
 RESTIR_HD inline Bsdf make_bsdf(const MaterialParams& m, Rgb reflectance) {
   Bsdf b;
   b.type = m.type;
@@ -202,6 +209,10 @@ RESTIR_HD inline Bsdf make_bsdf(const MaterialParams& m, Rgb reflectance) {
   if (std::max(b.alpha_x, b.alpha_y) >= kSmoothAlpha) {
     b.alpha_x = std::max(b.alpha_x, 1e-4f);
     b.alpha_y = std::max(b.alpha_y, 1e-4f);
+  }
+  if (m.type == Material::Type::coated_diffuse) {
+    b.coat_fdr = m.coat_fdr;
+    for (int i = 0; i < kCoatTableSize; ++i) b.coat_t[i] = m.coat_t[i];
   }
   return b;
 }
@@ -222,6 +233,7 @@ RESTIR_HD inline Rgb bsdf_eval(const Bsdf& b, Vec3 wo, Vec3 wi) {
     case Material::Type::diffuse: return bsdf_detail::diffuse_eval(b, wo, wi);
     case Material::Type::conductor: return bsdf_detail::conductor_eval(b, wo, wi);
     case Material::Type::dielectric: return bsdf_detail::dielectric_eval(b, wo, wi);
+    case Material::Type::coated_diffuse: return bsdf_detail::coated_eval(b, wo, wi);
   }
   return Rgb(0);
 }
@@ -231,6 +243,7 @@ RESTIR_HD inline float bsdf_pdf(const Bsdf& b, Vec3 wo, Vec3 wi) {
     case Material::Type::diffuse: return bsdf_detail::diffuse_pdf(wo, wi);
     case Material::Type::conductor: return bsdf_detail::conductor_pdf(b, wo, wi);
     case Material::Type::dielectric: return bsdf_detail::dielectric_pdf(b, wo, wi);
+    case Material::Type::coated_diffuse: return bsdf_detail::coated_pdf(b, wo, wi);
   }
   return 0;
 }
@@ -242,6 +255,7 @@ RESTIR_HD inline bool bsdf_sample(const Bsdf& b, Vec3 wo, float u_lobe, Vec2 u, 
     case Material::Type::diffuse: ok = bsdf_detail::diffuse_sample(b, wo, u, out); break;
     case Material::Type::conductor: ok = bsdf_detail::conductor_sample(b, wo, u, out); break;
     case Material::Type::dielectric: ok = bsdf_detail::dielectric_sample(b, wo, u_lobe, u, out); break;
+    case Material::Type::coated_diffuse: ok = bsdf_detail::coated_sample(b, wo, u_lobe, u, out); break;
   }
   if (!ok || !bsdf_detail::unit_ok(out.wi) || !is_finite(out.f) || !(out.pdf > 0) || !std::isfinite(out.pdf)) {
     out = {};
@@ -255,12 +269,29 @@ RESTIR_HD inline bool bsdf_is_delta(const Bsdf& b) {
     case Material::Type::diffuse: return false;
     case Material::Type::conductor: return bsdf_detail::is_smooth(b);
     case Material::Type::dielectric: return bsdf_detail::is_smooth(b) || bsdf_detail::index_matched(b);
+    case Material::Type::coated_diffuse: return false;  // the base is never a delta
   }
   return false;
 }
 
+RESTIR_HD inline bool bsdf_has_delta(const Bsdf& b) {
+  // An index-matched smooth coat reflects nothing (F = 0): no delta lobe to sample.
+  if (b.type == Material::Type::coated_diffuse) return bsdf_detail::is_smooth(b) && !bsdf_detail::index_matched(b);
+  return bsdf_is_delta(b);
+}
+
+RESTIR_HD inline bool bsdf_delta_lobe(const Bsdf& b, Vec3 wo, BsdfSample& out) {
+  out = {};
+  if (b.type != Material::Type::coated_diffuse || !bsdf_has_delta(b) || wo.z == 0) return false;
+  const Vec3 wi{-wo.x, -wo.y, wo.z};  // the coat's mirror, weight F(cos o) (bsdf_coated.h)
+  out = {wi, Rgb(fresnel_dielectric(std::fabs(wo.z), b.ior) / std::fabs(wi.z)), 1.0f, true};
+  return is_finite(out.f);
+}
+
 RESTIR_HD inline float bsdf_roughness(const Bsdf& b) {
   if (b.type == Material::Type::diffuse) return 1.0f;
+  // A smooth coat's only non-delta lobe is the diffuse base.
+  if (b.type == Material::Type::coated_diffuse && bsdf_detail::is_smooth(b)) return 1.0f;
   return std::sqrt(b.alpha_x * b.alpha_y);
 }
 

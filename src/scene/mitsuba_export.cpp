@@ -219,6 +219,21 @@ void Exporter::material(size_t i) {
                                alphas(), iors);
       break;
     }
+    case Material::Type::coated_diffuse: {
+      // plastic / roughplastic with nonlinear = true: the model of bsdf_coated.h. roughplastic is
+      // isotropic only: an anisotropic coat goes out with the mean alpha sqrt(alpha_x alpha_y).
+      std::string body = flt("int_ior", m.ior) + flt("ext_ior", 1.0f) + texture("diffuse_reflectance", m) +
+                         "<boolean name=\"nonlinear\" value=\"true\"/>";
+      if (smooth) {
+        inner = fmt::format("<bsdf type=\"plastic\">{}</bsdf>", body);
+        break;
+      }
+      if (ax != ay) note(fmt::format("material {} '{}': anisotropic coat exported with alpha sqrt(alpha_u alpha_v) "
+                                     "(Mitsuba's roughplastic is isotropic)", i, m.name));
+      inner = fmt::format("<bsdf type=\"roughplastic\"><string name=\"distribution\" value=\"ggx\"/>{}{}</bsdf>",
+                          flt("alpha", std::sqrt(ax * ay)), body);
+      break;
+    }
   }
   if (two_sided) xml_ += fmt::format("  <bsdf type=\"twosided\" id=\"mat{}\">{}</bsdf>\n", i, inner);
   else xml_ += fmt::format("  {}\n", inner.insert(inner.find(' '), fmt::format(" id=\"mat{}\"", i)));

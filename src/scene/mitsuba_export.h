@@ -11,6 +11,10 @@
 //   directly; max(alpha) < 1e-3 is smooth in restir-lab, so it becomes `conductor`/`dielectric`.
 //   Mitsuba's Smith G is the separable G1(wo) G1(wi), restir-lab's (pbrt-v4's) height-correlated:
 //   rough lobes differ slightly at grazing angles, by design of the two renderers.
+// - coated diffuse: `plastic` (smooth coat) or `roughplastic` (ggx, alpha, int_ior = eta,
+//   ext_ior = 1), both with nonlinear = true (bsdf_coated.h's model), in `twosided`. Mitsuba's
+//   plastic takes Fdr from a polynomial fit, roughplastic tabulates T and Fdr with the separable G:
+//   small differences, largest at grazing angles; an anisotropic coat goes out with the mean alpha.
 // - conductor "reflectance" r: eta = 1, k = 2 sqrt(r / (1 - r)) (restir-lab's exact conversion).
 // - meshes: world space, indices wound so that Mitsuba's face normal is triangle_normal();
 //   `face_normals` when the mesh has no shading normals (Mitsuba would smooth them otherwise).

@@ -1,6 +1,7 @@
 // pbrt-v4 materials and textures -> rl::Material / rl::Texture (internal to the pbrt loader).
 #include <cmath>
 
+#include "scene/coated.h"
 #include "scene/loader.h"
 #include "scene/pbrt_tokenizer.h"
 
@@ -17,6 +18,49 @@ int reflectance_texture(const ParamList& pl, const std::string& name, const Name
     pl.find(name)->fail("unknown texture '" + *t + "'");
   }
   return it->second;
+}
+
+// A dielectric's (or coat's) "eta": a float, a single-value spectrum or one of pbrt-v4's named glasses.
+float ior(const ParamList& pl, const std::string& type) {
+  const Param* p = pl.find("eta");
+  if (!p) return 1.5f;
+  if (p->type == "float") return pl.get_float("eta", 1.5f);
+  if (p->type == "spectrum" && p->strs.size() == 1) {
+    auto ior = named_glass_ior(p->strs[0]);
+    if (!ior) p->fail("unsupported named spectrum '" + p->strs[0] + "' (supported: glass-BK7, glass-BAF10, "
+                      "glass-FK51A, glass-LASF9, glass-F5, glass-F10, glass-F11)");
+    return *ior;
+  }
+  if (p->type == "spectrum" && p->nums.size() == 1) return float(p->nums[0]);
+  p->fail(type + " eta must be a float, a single-value spectrum or a named glass");
+}
+
+// pbrt-v4 "coateddiffuse" as bsdf_coated.h's closed form: the base's reflectance (textured like
+// diffuse's) and the coat's eta; the caller reads the roughness. The closed form has no layer
+// thickness and needs no random walk, so "thickness", "maxdepth" and "nsamples" are read for their
+// ranges only; a medium in the layer ("albedo" != 0, with its "g") is not modelled: one warning.
+void coated_diffuse(const Token& d, const ParamList& pl, const NamedTextures& nt, Material& m) {
+  m.type = Material::Type::coated_diffuse;
+  m.reflectance_texture = reflectance_texture(pl, "reflectance", nt);
+  if (m.reflectance_texture < 0) m.reflectance = pl.get_rgb("reflectance", false).value_or(Rgb(0.5f));
+  m.ior = ior(pl, "coateddiffuse");
+  if (!(m.ior > 0)) d.fail("coateddiffuse: eta must be positive");
+  pl.check_range("thickness", 0, HUGE_VAL, true);
+  pl.check_range("maxdepth", 1);
+  pl.check_range("nsamples", 1);
+  pl.check_range("g", -1, 1);
+  pl.check_range("albedo", 0, 1);
+  for (const char* k : {"thickness", "maxdepth", "nsamples", "g"}) pl.ignore(k);
+  if (const Param* a = pl.find("albedo")) {
+    const bool zero = a->type != "texture" && is_black(pl.get_rgb("albedo", false).value_or(Rgb(0)));
+    pl.ignore("albedo");
+    if (!zero) {
+      Token at;
+      at.file = a->file;
+      at.line = a->line;
+      warn(at, "coateddiffuse: \"albedo\" (a scattering medium in the coat) is not modelled: the layer is clear");
+    }
+  }
 }
 
 }  // namespace
@@ -37,12 +81,12 @@ Material make_material(const Token& d, const std::string& type, const std::strin
     m.alpha_y = remap ? std::sqrt(v) : v;
   };
   // Physical ranges (a reflectance above 1 creates energy; eta <= 0 or k < 0 have no meaning).
-  if (type == "diffuse" || type == "conductor") pl.check_range("reflectance", 0, 1);
+  if (type == "diffuse" || type == "conductor" || type == "coateddiffuse") pl.check_range("reflectance", 0, 1);
   if (type == "conductor") {
     pl.check_range("eta", 0, HUGE_VAL, true);
     pl.check_range("k", 0);
   }
-  if (type == "dielectric") pl.check_range("eta", 0, HUGE_VAL, true);
+  if (type == "dielectric" || type == "coateddiffuse") pl.check_range("eta", 0, HUGE_VAL, true);
   if (type == "diffuse") {
     m.type = Material::Type::diffuse;
     m.reflectance_texture = reflectance_texture(pl, "reflectance", nt);
@@ -62,26 +106,17 @@ Material make_material(const Token& d, const std::string& type, const std::strin
     roughness();
   } else if (type == "dielectric") {
     m.type = Material::Type::dielectric;
-    if (const Param* p = pl.find("eta")) {
-      if (p->type == "float") {
-        m.ior = pl.get_float("eta", 1.5f);
-      } else if (p->type == "spectrum" && p->strs.size() == 1) {
-        auto ior = named_glass_ior(p->strs[0]);
-        if (!ior) p->fail("unsupported named spectrum '" + p->strs[0] + "' (supported: glass-BK7, glass-BAF10, "
-                          "glass-FK51A, glass-LASF9, glass-F5, glass-F10, glass-F11)");
-        m.ior = *ior;
-      } else if (p->type == "spectrum" && p->nums.size() == 1) {
-        m.ior = float(p->nums[0]);
-      } else {
-        p->fail("dielectric eta must be a float, a single-value spectrum or a named glass");
-      }
-    }
+    m.ior = ior(pl, type);
     if (!(m.ior > 0)) d.fail("dielectric: eta must be positive");
     roughness();
+  } else if (type == "coateddiffuse") {
+    coated_diffuse(d, pl, nt, m);
+    roughness();
+    prepare_coated(m);
   } else if (type == "interface") {
     d.fail("unsupported material 'interface' (participating media are not supported)");
   } else {
-    d.fail("unsupported material '" + type + "' (supported: diffuse, conductor, dielectric)");
+    d.fail("unsupported material '" + type + "' (supported: diffuse, conductor, dielectric, coateddiffuse)");
   }
   pl.ignore("type");
   pl.check_unused("material \"" + type + "\"");

@@ -6,7 +6,7 @@
 // TransformBegin/End (pbrt-v3), WorldBegin, WorldEnd (pbrt-v3, ignored), ObjectBegin/End/
 // ObjectInstance (flattened), Include/Import, Shape (trianglemesh, plymesh, sphere, and the project
 // extensions objmesh/gltfmesh), Material/MakeNamedMaterial/NamedMaterial (diffuse, conductor,
-// dielectric), Texture (imagemap, checkerboard, constant, scale), AreaLightSource "diffuse",
+// dielectric, coateddiffuse), Texture (imagemap, checkerboard, constant, scale), AreaLightSource "diffuse",
 // LightSource "infinite"/"point"/"spot"/"distant". ColorSpace, Option, Attribute: ignored with a warning.
 // Media and everything else: SceneError "FILE:LINE: ...".
 //

@@ -118,7 +118,7 @@ struct NamedTextures {
   std::map<std::string, int> spectrum, floats;
 };
 
-// pbrt-v4 "diffuse", "conductor", "dielectric" (pbrt_materials.cpp). Errors name d's file:line.
+// pbrt-v4 "diffuse", "conductor", "dielectric", "coateddiffuse" (pbrt_materials.cpp). Errors name d's file:line.
 Material make_material(const Token& d, const std::string& type, const std::string& name, const ParamList& pl,
                        const NamedTextures& nt, const std::vector<Texture>& textures);
 // Texture classes imagemap, checkerboard, constant, scale. `resolve` maps a file name in the

@@ -35,16 +35,23 @@ struct Texture : TextureParams {
 
 // Material parameters as written in the scene; a Bsdf is resolved from them at each hit. The
 // plain part (MaterialParams) is what device code reads.
+// Size of a coated material's coat transmittance table (scene/coated.h).
+inline constexpr int kCoatTableSize = 16;
+
 struct MaterialParams {
-  enum class Type { diffuse, conductor, dielectric };
+  enum class Type { diffuse, conductor, dielectric, coated_diffuse };
   Type type = Type::diffuse;
-  Rgb reflectance{0.5f};        // diffuse albedo; conductor: if use_reflectance, the normal-incidence colour
+  Rgb reflectance{0.5f};        // diffuse (and coated_diffuse base) albedo; conductor: if use_reflectance, the normal-incidence colour
   int reflectance_texture = -1; // index into Scene::textures, overrides reflectance
   Rgb eta{0.2004f, 0.9240f, 1.1022f};  // conductor complex IOR (default: copper, as pbrt-v4)
   Rgb k{3.9129f, 2.4528f, 2.1422f};
   bool use_reflectance = false; // conductor given by "reflectance" instead of eta/k
-  float ior = 1.5f;             // dielectric index of refraction (outside medium is 1)
+  float ior = 1.5f;             // dielectric (or coated_diffuse's coat) index of refraction (outside medium is 1)
   float alpha_x = 0, alpha_y = 0;  // GGX roughness (already remapped if remaproughness was set); 0 = smooth
+  // coated_diffuse only, filled on the host by prepare_coated (scene/coated.h) from ior and the
+  // alphas: the coat's internal diffuse reflectance and its transmittance table (unorm16).
+  float coat_fdr = 0;
+  uint16_t coat_t[kCoatTableSize] = {};
 };
 struct Material : MaterialParams {
   std::string name;

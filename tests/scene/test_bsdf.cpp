@@ -7,6 +7,7 @@
 
 #include "core/rng.h"
 #include "scene/bsdf.h"
+#include "scene/coated.h"
 #include "scene/microfacet.h"
 #include "stat_utils.h"
 
@@ -48,6 +49,16 @@ Bsdf dielectric(float ior, float ax, float ay) {
   m.alpha_x = ax;
   m.alpha_y = ay;
   return make_bsdf(m, Rgb(1));
+}
+
+Bsdf coated(Rgb r, float eta, float ax, float ay) {
+  Material m;
+  m.type = Material::Type::coated_diffuse;
+  m.ior = eta;
+  m.alpha_x = ax;
+  m.alpha_y = ay;
+  prepare_coated(m);
+  return make_bsdf(m, r);
 }
 
 struct Case {
@@ -331,7 +342,10 @@ TEST_CASE("bsdf: no NaN or Inf for any direction pair, grazing and z == 0 includ
   std::vector<Bsdf> bs = {diffuse(Rgb(0.5f)), conductor(0, 0), conductor(0.05f, 0.05f), conductor(0.1f, 0.4f),
                           conductor(1e-4f, 0.5f), conductor_reflectance(Rgb(1), 0.3f), dielectric(1.5f, 0, 0),
                           dielectric(1.5f, 0.3f, 0.3f), dielectric(1.5f, 0.002f, 0.002f), dielectric(1.0f, 0.3f, 0.3f),
-                          dielectric(1.00005f, 0, 0), dielectric(2.4f, 1.0f, 0.01f)};
+                          dielectric(1.00005f, 0, 0), dielectric(2.4f, 1.0f, 0.01f), coated(Rgb(0.5f), 1.5f, 0, 0),
+                          coated(Rgb(0.5f), 1.5f, 0.3f, 0.3f), coated(Rgb(0), 1.5f, 0.002f, 0.002f), coated(Rgb(1), 1.0f, 0, 0),
+                          coated(Rgb(1), 1.00005f, 0.3f, 0.3f), coated(Rgb(0.8f), 2.4f, 1e-4f, 0.5f), coated(Rgb(3), 1.5f, 1.0f, 1.0f),
+                          coated(Rgb(0.5f), 0.7f, 0.2f, 0.2f)};
   std::vector<Vec3> special = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0.6f, 0.8f, 0},
                                {1, 0, 1e-7f}, {1, 0, -1e-7f}, {1e-8f, 0, 1}, {1e-30f, 0, 1}};
   for (Vec3& v : special) v = v / length(v);

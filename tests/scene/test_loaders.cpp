@@ -282,7 +282,7 @@ TEST_CASE("pbrt: every bad input is a SceneError naming file and line") {
       {kWorld + "Material \"diffuse\" \"rgb reflectance\" [0.5 0.5]\n", "bad.pbrt:3: parameter \"rgb reflectance\": expected 3"},
       {kWorld + "Scale 1 2 1 Shape \"sphere\"\n", "bad.pbrt:3: sphere: its transform must be"},
       {kWorld + "Shape \"sphere\" \"float zmax\" 0.5\n", "bad.pbrt:3: sphere: partial spheres"},
-      {kWorld + "Material \"coateddiffuse\"\n", "bad.pbrt:3: unsupported material 'coateddiffuse'"},
+      {kWorld + "Material \"coatedconductor\"\n", "bad.pbrt:3: unsupported material 'coatedconductor'"},
       {kWorld + "Material \"interface\"\n", "bad.pbrt:3: unsupported material 'interface'"},
       {kWorld + "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n", "bad.pbrt:3: unsupported directive 'MakeNamedMedium'"},
       {kWorld + "Material \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", "bad.pbrt:3: parameter \"spectrum eta\": unsupported named spectrum"},

@@ -260,8 +260,11 @@ RESTIR_HD inline DiReservoir di_initial_reservoir(const PathWorld& w, const Trac
   return r;
 }
 
-// Direct light through a delta BSDF (mirror, smooth glass), which resampling cannot handle:
-// follows the specular direction and returns the throughput-weighted emission it sees.
+// Direct light through a delta lobe (mirror, smooth glass, a smooth coat), which resampling cannot
+// handle: follows the delta direction and returns the throughput-weighted emission it sees. A delta
+// BSDF's lobes are sampled (reflection or refraction); the delta lobe of a BSDF that mixes one with
+// non-delta lobes (coated diffuse; the reservoir covers the others) is followed whole, with its
+// weight (bsdf_delta_lobe): no lobe-choice noise.
 template <class Tracer>
 RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const GSurface& s, Pcg32& rng) {
   BsdfSample bs;
@@ -269,7 +272,8 @@ RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const
   const Vec3 wo_l = shading.to_local(s.wo);
   const float u_lobe = rng.next_float();
   const Vec2 u = rng.next_2d();
-  if (!bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) || !(bs.pdf > 0)) return Rgb(0);
+  const bool ok = bsdf_is_delta(s.bsdf) ? bsdf_sample(s.bsdf, wo_l, u_lobe, u, bs) : bsdf_delta_lobe(s.bsdf, wo_l, bs);
+  if (!ok || !(bs.pdf > 0)) return Rgb(0);
   const Rgb beta = bs.f * (std::fabs(bs.wi.z) / bs.pdf);
   const Vec3 wi = shading.to_world(bs.wi);
   Hit hit;
@@ -345,16 +349,18 @@ struct DiBridges {
 };
 
 // The final shading of a pixel: f(y) W, with visibility traced unless the target already included
-// it; a delta BSDF's direct light through di_specular; emission and background as seen.
+// it; a delta lobe's direct light through di_specular (alone for a delta BSDF, added for a mixed
+// one); emission and background as seen.
 template <class Tracer>
 RESTIR_HD inline Rgb di_shade(const PathWorld& w, const Tracer& tracer, const GSurface& sf, const DiReservoir& r, bool visibility_reuse,
                               uint32_t pixel, uint32_t frame, uint64_t seed, uint32_t chain) {
   Rgb L = sf.le;
   if (!sf.valid) return L;
-  if (bsdf_is_delta(sf.bsdf)) {
+  if (bsdf_has_delta(sf.bsdf)) {
     Pcg32 rng = make_rng(pixel, frame, RngPass::misc, seed, chain);
     L += di_specular(w, tracer, sf, rng);
-  } else if (r.has_sample()) {
+  }
+  if (!bsdf_is_delta(sf.bsdf) && r.has_sample()) {
     Ray shadow;
     Rgb contrib = di_unshadowed(w.lights, sf, r.sample, w.ray_epsilon, &shadow) * r.ucw;
     if (!visibility_reuse && tracer.occluded(shadow)) contrib = Rgb(0);

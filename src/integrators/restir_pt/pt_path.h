@@ -76,13 +76,17 @@ struct PathSettings {
 PathSettings path_settings(const Options& o);
 
 // Russian roulette's survival probability after reaching a vertex with this BSDF: its albedo
-// (max component; 1 for dielectrics). A property of the vertex alone, so that reconnection shifts,
+// (max component; 1 for dielectrics; about F0 + (1 - F0) R for coated diffuse). A property of the vertex alone, so that reconnection shifts,
 // which keep the suffix's vertices, keep its roulette decisions too (see pt_path.cpp).
 RESTIR_HD inline float roulette_survival(const Bsdf& b) {
   switch (b.type) {
     case Material::Type::diffuse: return std::min(1.0f, max_component(b.reflectance));
     case Material::Type::conductor: return std::min(1.0f, max_component(bsdf_conductor_fresnel(b, 1.0f)));
     case Material::Type::dielectric: return 1.0f;
+    case Material::Type::coated_diffuse: {  // normal-incidence albedo, about: F0 + (1 - F0) R
+      const float f0 = fresnel_dielectric(1.0f, b.ior);
+      return std::min(1.0f, f0 + (1 - f0) * max_component(b.reflectance));
+    }
   }
   return 1.0f;
 }

@@ -11,18 +11,22 @@ namespace rl {
 namespace pt_detail {
 
 // The offset path so far: its vertex y_d, the product of its f_s|cos| before y_d, and the density
-// of its replayed directions.
+// of its replayed directions. `pending`: the pair (y_{d-1}, y_d) passes the hybrid criterion in all
+// but y_d's own event, which the next step (or the reconnection, or the last segment) decides.
 struct ShiftPrefix {
   Vertex v;
   Rgb beta{1};
   float pdf = 1;
+  bool pending = false;
 };
 
 // Replays the base path's directions at y_1 .. y_{last-1} with its random numbers, from pre.v = y_1
 // to pre.v = y_last. `check`: the hybrid shift's invertibility test (GRIS §7.2, eqs. 19-20): the
 // offset path must get the same reconnection index from its own walk as the base path, or the
 // inverse shift (and with it the MIS weights' partition of unity) differs, so no replayed vertex
-// pair before x_k may be reconnectable.
+// pair before x_k may be reconnectable (walk.h: rough vertices, non-delta events). A pair's second
+// event is known one step later; with a BSDF that has no delta lobe it is non-delta for sure, and
+// the pair fails at once. The last pair stays in pre.pending for the caller.
 template <class Tracer>
 RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, int last,
                              bool check, ShiftPrefix& pre) {
@@ -30,8 +34,10 @@ RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const
     const VertexRandoms u = vertex_randoms(base.seed, d);
     const Step st = take_step(world, tracer, ps, pre.v, u);
     if (!st.ok || !st.hit) return false;
+    if (check && pre.pending && !st.delta) return false;  // (y_{d-1}, y_d) was reconnectable
     const Vertex next = vertex_from_hit(world, st.si, -st.dir);
-    if (check && reconnectable(ps, pre.v, next, st.distance)) return false;
+    pre.pending = check && !st.delta && reconnectable(ps, pre.v, next, st.distance);
+    if (pre.pending && !bsdf_has_delta(next.bsdf)) return false;
     pre.beta *= st.fcos;
     // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette()).
     const float q = roulette(ps, d, next, u);
@@ -67,7 +73,8 @@ RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const Pa
   SampledEmitter sampled;
   if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
   const bool is_dir = world.lights.at_infinity(ep.emitter);
-  if (check && emitter_reconnectable(ps, v, is_dir, is_dir ? 0.0f : length(ep.position - v.p))) return false;
+  // NEE's event is never a delta: it completes a pending pair, and (y_{n-1}, x_n) is one to test.
+  if (check && (pre.pending || emitter_reconnectable(ps, v, is_dir, is_dir ? 0.0f : length(ep.position - v.p)))) return false;
   sampled.pdf = ep.pdf;
   const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
   if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
@@ -84,7 +91,7 @@ RESTIR_HD bool replay_bsdf(const PathWorld& world, const Tracer& tracer, const P
   const Vertex& v = pre.v;
   const Step st = take_step(world, tracer, ps, v, u);
   if (!st.ok) return false;
-  if (check && emitter_reconnectable(ps, v, !st.hit, st.distance)) return false;
+  if (check && !st.delta && (pre.pending || emitter_reconnectable(ps, v, !st.hit, st.distance))) return false;
   float light_pdf, measure;
   Rgb le;
   if (!st.hit) {
@@ -102,7 +109,7 @@ RESTIR_HD bool replay_bsdf(const PathWorld& world, const Tracer& tracer, const P
   }
   tail.f = pre.beta * st.fcos * le * measure;
   tail.p = pre.pdf * st.pdf * measure;
-  tail.mis = strategy_weight(ps, false, v.delta, light_pdf, st.delta ? 0.0f : st.pdf * measure);
+  tail.mis = strategy_weight(ps, false, v.delta || st.delta, light_pdf, st.delta ? 0.0f : st.pdf * measure);
   return true;
 }
 

@@ -80,6 +80,9 @@ template <class Tracer>
 RESTIR_HD bool reconnect(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
                          const ShiftPrefix& pre, PathSample& out, float& jacobian) {
   if (pre.v.delta || (hybrid && !rough(pre.v, ps.pt.roughness_threshold))) return false;
+  // The connection y_{k-1} -> x_k is a non-delta event: a pending replayed pair (y_{k-2}, y_{k-1})
+  // is then reconnectable, and the offset path's walk would choose k - 1 (replay_prefix).
+  if (hybrid && pre.pending) return false;
   Reconnected r;
   const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, hybrid, pre, r)
                                          : reconnect_surface(world, tracer, ps, base, hybrid, pre, r);

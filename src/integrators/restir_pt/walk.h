@@ -62,13 +62,25 @@ RESTIR_HD inline uint32_t emitter_of(const PathWorld& world, const SurfaceIntera
 
 RESTIR_HD inline bool rough(const Vertex& v, float threshold) { return !v.delta && bsdf_roughness(v.bsdf) >= threshold; }
 
+// Delta lobes of mixed BSDFs (a smooth coat over a diffuse base): a vertex whose path continues
+// through a delta lobe ("delta event") is never a reconnection vertex's end. Reconnecting from it
+// would evaluate the BSDF's non-delta lobes (bsdf_eval) for a path sampled through the delta: a
+// path of another measure (one solid-angle dimension fewer), which no Jacobian maps -- biased. So
+// the hybrid shift's criterion (GRIS §7.2) asks, of both x_{k-1} and x_k, a rough BSDF AND a
+// non-delta event: x_{k-1}'s toward x_k, x_k's toward x_{k+1} (ReSTIR PT's reference keeps the
+// sampled lobe in its path flags for the same reason, Lin et al. 2022, supplement). Whether an
+// event is a delta is a property of the path (a direction exactly on the mirror), not of the random
+// numbers, so the offset path's own walk gets the same answer. Single-lobe BSDFs: the event is a
+// delta exactly when the BSDF is.
+
 // The hybrid shift's reconnection criterion (GRIS §7.2; choose_reconnection): vertices a and b,
-// `distance` apart, are a reconnectable pair -- both rough, far enough apart.
+// `distance` apart, are a reconnectable pair -- both rough, far enough apart -- when neither's event
+// is a delta (the callers check those).
 RESTIR_HD inline bool reconnectable(const PathSettings& ps, const Vertex& a, const Vertex& b, float distance) {
   return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
 }
-// The same for an emitter vertex after v (emitters are diffuse: always rough; the environment and
-// distant lights are infinitely far).
+// The same for an emitter vertex after v, reached by a non-delta event (emitters are diffuse or
+// delta: always rough; the environment and distant lights are infinitely far).
 RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, float distance) {
   return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
 }
@@ -159,7 +171,8 @@ RESTIR_HD inline Terminal eval_terminal(const PathWorld& world, const PathSettin
 }
 
 // Balance-heuristic weight of the strategy that produced the last vertex (Veach 1997, eq. 9.10);
-// a strategy that is off (no NEE, delta vertex) leaves the other with weight 1.
+// a strategy that is off (no NEE, delta vertex) leaves the other with weight 1. `delta`: the vertex
+// is a delta BSDF, or the path reached the emitter through a delta lobe (which NEE cannot sample).
 RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, bool delta, float light_pdf, float bsdf_pdf) {
   const bool nee_on = ps.path.nee && !delta;
   if (!nee_on) return nee_tag ? 0.0f : 1.0f;
@@ -222,25 +235,29 @@ struct Walk {
   union { Rgb fcos[kMaxVertices]; };   // f_s|cos| of the continuation at v[i]
   union { float pdf[kMaxVertices]; };  // density of the continuation direction at v[i]
   union { Vec3 out[kMaxVertices]; };   // continuation direction at v[i]
+  union { bool delta_out[kMaxVertices]; };  // the continuation at v[i] went through a delta lobe
   RESTIR_HD Walk() {}
 };
 
 // First reconnectable vertex k of the path ending in an emitter at vertex n (hybrid), 2 for
-// reconnection, 0 for replay. Reconnection needs a non-delta x_1 (a delta BSDF cannot connect to an
-// arbitrary x_2): such paths get k = 0 and no reconnection shift, in either direction.
+// reconnection, 0 for replay. Reconnection needs a non-delta x_1 and non-delta events at x_1 and x_2
+// (a delta cannot connect to an arbitrary x_2, nor keep x_2's outgoing direction for another
+// incoming one): such paths get k = 0 and no reconnection shift, in either direction. `last_delta`:
+// the event at x_{n-1} (false for NEE).
 RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos,
-                                         bool terminal_is_direction) {
+                                         bool terminal_is_direction, bool last_delta) {
+  auto event_delta = [&](int i) { return i == n - 1 ? last_delta : w.delta_out[size_t(i)]; };
   if (ps.pt.shift == ShiftMapping::random_replay) return 0;
-  if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta ? 0 : 2;
+  if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta || event_delta(1) || (n > 2 && event_delta(2)) ? 0 : 2;
   for (int k = 2; k <= n; ++k) {
     const Vertex& prev = w.v[size_t(k - 1)];
-    if (!rough(prev, ps.pt.roughness_threshold)) continue;
+    if (!rough(prev, ps.pt.roughness_threshold) || event_delta(k - 1)) continue;
     if (k == n) {  // emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far
       if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.pt.distance_threshold) return k;
       continue;
     }
     const Vertex& cur = w.v[size_t(k)];
-    if (rough(cur, ps.pt.roughness_threshold) && length(cur.p - prev.p) >= ps.pt.distance_threshold) return k;
+    if (rough(cur, ps.pt.roughness_threshold) && !event_delta(k) && length(cur.p - prev.p) >= ps.pt.distance_threshold) return k;
   }
   return 0;
 }
@@ -249,10 +266,10 @@ RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, 
 // f_s|cos| of the final segment, `tail` = Le G, `path_pdf` the full path density (own measure),
 // `mis` its strategy weight, `t` the terminal (for k = n - 1).
 RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal,
-                                    bool is_direction, Rgb last_fcos, Rgb tail, float path_pdf, float mis, const Terminal& t,
-                                    PathSample& s) {
+                                    bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float path_pdf, float mis,
+                                    const Terminal& t, PathSample& s) {
   s.length = n;
-  s.rc = choose_reconnection(ps, w, n, pos, is_direction);
+  s.rc = choose_reconnection(ps, w, n, pos, is_direction, last_delta);
   const int k = s.rc;
   if (k == 0) {
     s.replay_pdf = path_pdf;
@@ -294,6 +311,7 @@ struct OfferedPath {
   uint32_t emitter;
   Vec3 pos, normal;
   bool is_direction;
+  bool last_delta;      // the final segment went through a delta lobe (never for NEE)
   Rgb last_fcos, tail;  // f_s|cos| of the final segment; Le G
   float path_pdf, mis;  // full path density (own measure, Russian roulette included); m_t
   const Terminal* terminal;
@@ -334,7 +352,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
         if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
           const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, t.fcos, t.emission * t.geometry,
+          offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, false, t.fcos, t.emission * t.geometry,
                             pdf * t.light_pdf, mis, &t});
         }
       }
@@ -345,6 +363,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     w.fcos[size_t(d)] = st.fcos;
     w.pdf[size_t(d)] = st.pdf;
     w.out[size_t(d)] = st.dir;
+    w.delta_out[size_t(d)] = st.delta;
     if (!st.hit) {
       if (world.lights.has_environment()) {
         const uint32_t e = world.lights.environment_emitter();
@@ -354,8 +373,8 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         t.light_pdf = env.pdf;
         t.measure = 1;
         t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
-        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.fcos, env.radiance, pdf * st.pdf, mis, &t});
+        const float mis = strategy_weight(ps, false, v.delta || st.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.delta, st.fcos, env.radiance, pdf * st.pdf, mis, &t});
       }
       break;
     }
@@ -369,8 +388,8 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         t.measure = std::fabs(dot(si.ng, st.dir)) / (st.distance * st.distance);
         t.light_pdf = world.lights.point_pdf(e, si.p);
         t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
-        const float mis = strategy_weight(ps, false, v.delta, t.light_pdf, t.bsdf_pdf);
-        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis, &t});
+        const float mis = strategy_weight(ps, false, v.delta || st.delta, t.light_pdf, t.bsdf_pdf);
+        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.delta, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis, &t});
       }
     }
     if (d == max_depth) break;
@@ -397,7 +416,8 @@ RESTIR_HD inline PathSample describe_offered(const PathSettings& ps, const Walk&
   x.seed = walk_seed;
   x.nee = o.nee_tag;
   x.contribution = offered_contribution(w, o);
-  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_fcos, o.tail, o.path_pdf, o.mis, *o.terminal, x);
+  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_delta, o.last_fcos, o.tail, o.path_pdf, o.mis,
+                *o.terminal, x);
   return x;
 }
 

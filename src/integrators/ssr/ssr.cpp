@@ -19,7 +19,9 @@
 // What it cannot show, by design (README "Screen-space reflections"): objects off screen or hidden
 // from the camera, reflections of reflections (a mirror seen in a mirror shows its own lit colour),
 // light arriving at glossy surfaces from emitters off screen, glass transmission (the transmitted
-// direction returns the fallback), and view-dependent colour of the surface a ray lands on.
+// direction returns the fallback), and view-dependent colour of the surface a ray lands on. A
+// smooth-coated diffuse surface counts as rough (bsdf_roughness: its non-delta lobe is the base),
+// so its coat mirrors emitters (the lit colour's BSDF sample) but not the screen.
 #include <algorithm>
 #include <cmath>
 #include <span>
