@@ -397,8 +397,14 @@ std::optional<Rgb> ParamList::get_rgb(const std::string& name, bool illuminant) 
 void ParamList::ignore(const std::string& name) const { find(name); }
 
 void ParamList::check_unused(const std::string& context) const {
-  for (const Param& p : params)
-    if (!p.used) p.fail("unused or unsupported parameter for " + context + did_you_mean(p.name, asked_));
+  for (const Param& p : params) {
+    if (p.used) continue;
+    // A name the reader asked about but does not consume (range-checked only, e.g. a light's
+    // "power") is known and unsupported: suggesting the name itself would be no help.
+    if (std::find(asked_.begin(), asked_.end(), p.name) != asked_.end())
+      p.fail("not supported by restir-lab for " + context);
+    p.fail("unused or unsupported parameter for " + context + did_you_mean(p.name, asked_));
+  }
 }
 
 std::vector<std::string> ParamList::unused() const {

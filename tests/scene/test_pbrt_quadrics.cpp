@@ -70,6 +70,11 @@ TEST_CASE("pbrt: a misspelt directive or parameter names the closest one") {
   CHECK(error_of(kWorld + "Shpae \"sphere\"\n").find("unknown directive 'Shpae' (did you mean 'Shape'?)") != std::string::npos);
   CHECK(error_of(kWorld + "Shape \"disk\" \"float raduis\" [2]\n").find("(did you mean 'radius'?)") != std::string::npos);
   CHECK(error_of(kWorld + "Shape \"sphere\" \"float zzzzzz\" [2]\n").find("did you mean") == std::string::npos);
+  // A parameter the reader knows but does not use names no suggestion (once: "did you mean 'power'?").
+  const std::string power = error_of(kWorld + "LightSource \"point\" \"float power\" [2]\n");
+  CHECK(power.find("\"float power\"") != std::string::npos);
+  CHECK(power.find("not supported") != std::string::npos);
+  CHECK(power.find("did you mean") == std::string::npos);
 }
 
 }  // TEST_SUITE
