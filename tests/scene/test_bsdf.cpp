@@ -9,19 +9,17 @@
 #include "scene/bsdf.h"
 #include "scene/coated.h"
 #include "scene/microfacet.h"
+#include "bsdf_test_utils.h"
 #include "stat_utils.h"
 
 using namespace rl;
+using rl::test::coated;
+using rl::test::dir;
 
 namespace {
 
 constexpr int kTests = 24;  // chi-square tests in this file (Sidak correction)
 const double kAlpha = stat::sidak_alpha(0.01, kTests);
-
-Vec3 dir(float theta_deg, float phi_deg) {
-  float t = theta_deg * kPi / 180, p = phi_deg * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
 
 Bsdf diffuse(Rgb r) {
   Material m;
@@ -49,16 +47,6 @@ Bsdf dielectric(float ior, float ax, float ay) {
   m.alpha_x = ax;
   m.alpha_y = ay;
   return make_bsdf(m, Rgb(1));
-}
-
-Bsdf coated(Rgb r, float eta, float ax, float ay) {
-  Material m;
-  m.type = Material::Type::coated_diffuse;
-  m.ior = eta;
-  m.alpha_x = ax;
-  m.alpha_y = ay;
-  prepare_coated(m);
-  return make_bsdf(m, r);
 }
 
 struct Case {
