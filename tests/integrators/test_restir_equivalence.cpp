@@ -55,17 +55,6 @@ void certify_pt_matrix(const Matrix& m) {
       }
 }
 
-// Certifies one configuration against the path tracer (the MIS of o's reuse picks the margins).
-void certify_one(const std::string& label, const std::string& path, const Scene& scene, const Options& o,
-                 const Certification& c) {
-  const EquivalenceReport rep =
-      compare_runs(test_runs(scene, o, c.runs, 1000, 8), reference_runs(path, scene, o, c.reference_spp, 8), c.spec);
-  const std::string what = label + ": " + rep.describe();
-  MESSAGE(what);
-  INFO(what);
-  CHECK(rep.pass());
-}
-
 }  // namespace
 
 TEST_SUITE("slow_equivalence_stripes") {

@@ -10,6 +10,9 @@
 // and the K sequence means are independent, so their spread gives honest standard errors).
 // Reference: R independent path-tracer renders, whose spread gives the reference's own error.
 #pragma once
+#include <doctest/doctest.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -275,6 +278,21 @@ inline Certification certification(restir::ReuseMis mis, int runs, int one_over_
     c.reference_spp = reference_spp;
   }
   return c;
+}
+
+// Certifies one configuration of the scene at `path` against the path tracer: c.runs test runs
+// (seeds from 1000) against the reference's runs, 8x8 blocks, c's margins; prints the report with
+// the run count and the time it took, and fails the test case where it does not pass.
+inline void certify_one(const std::string& label, const std::string& path, const Scene& scene, const Options& o,
+                        const Certification& c) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const EquivalenceReport rep =
+      compare_runs(test_runs(scene, o, c.runs, 1000, 8), reference_runs(path, scene, o, c.reference_spp, 8), c.spec);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string what = label + " (" + std::to_string(c.runs) + " runs, " + std::to_string(int(s)) + " s): " + rep.describe();
+  MESSAGE(what);
+  INFO(what);
+  CHECK(rep.pass());
 }
 
 }  // namespace rl::test
