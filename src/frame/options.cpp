@@ -185,6 +185,26 @@ std::vector<std::string> fit_defaults_to_integrator(Options& o, bool sequence) {
   return notes;
 }
 
+namespace {
+// Paired spatial reuse exchanges the two shifts of defensive pairwise MIS between partners
+// (frame/paired_reuse.h): other MIS weights need shifts it does not make, and ReSTIR DI's
+// partner must evaluate a neighbour's target as the canonical one does (with visibility).
+void check_paired_reuse(const Options& o) {
+  const auto check = [&](const char* group, const ReuseOptions& r) {
+    if (r.spatial_pairing != SpatialPairing::paired || r.spatial_mis == restir::ReuseMis::pairwise) return;
+    throw OptionError(fmt::format("{}.spatial_pairing = paired: needs {}.spatial_mis = pairwise (the pairs exchange the "
+                                  "two shifts of pairwise MIS), not {}", group, group, enum_name(r.spatial_mis)));
+  };
+  if (o.integrator == "restir-di" || o.integrator == "restir-pt") check("di", o.di.reuse);
+  if (o.integrator == "restir-gi") check("gi", o.gi.reuse);
+  if (o.integrator == "restir-pt") check("pt", o.pt.reuse);
+  if (o.di.reuse.spatial_pairing == SpatialPairing::paired && o.di.visibility_reuse && !o.di.neighbor_visibility &&
+      (o.integrator == "restir-di" || o.integrator == "restir-pt"))
+    throw OptionError("di.spatial_pairing = paired: needs di.neighbor_visibility = true with di.visibility_reuse (a partner's "
+                      "shift is evaluated once, as the canonical target, with visibility)");
+}
+}  // namespace
+
 void validate_options(const Options& o) {
   // 16384 x 16384 is allowed per axis, but not a 268-megapixel frame: 64 MPixel at most.
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
@@ -202,6 +222,7 @@ void validate_options(const Options& o) {
   if (o.render.backend != Backend::cpu && o.integrator == "ssr")
     throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
                                   enum_name(o.render.backend)));
+  check_paired_reuse(o);
   check_option_groups(o);
 }
 

@@ -31,6 +31,9 @@ enum class SsrFallback { environment, none };
 // Animated scenes: which frame's scene gives the temporal history its target in the resampling
 // MIS weights (the previous frame's: unbiased, GRIS; this frame's: a named biased shortcut).
 enum class HistoryScene { previous, current };
+// Spatial reuse's neighbours: a spiral per pixel (each pixel shifts to and from each neighbour),
+// or reciprocal pairs from pairing textures (each pair's shifts made once; ReSTIR PT Enhanced).
+enum class SpatialPairing { none, paired };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
 enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
 
@@ -55,6 +58,10 @@ template <> struct EnumNames<DebugView> {
   static constexpr std::array<std::pair<DebugView, const char*>, 5> values{
       {{DebugView::none, "none"}, {DebugView::confidence, "confidence"}, {DebugView::reuse_source, "reuse-source"},
        {DebugView::rejected_shifts, "rejected-shifts"}, {DebugView::reconnection_depth, "reconnection-depth"}}};
+};
+template <> struct EnumNames<SpatialPairing> {
+  static constexpr std::array<std::pair<SpatialPairing, const char*>, 2> values{
+      {{SpatialPairing::none, "none"}, {SpatialPairing::paired, "paired"}}};
 };
 template <> struct EnumNames<GiTarget> {
   static constexpr std::array<std::pair<GiTarget, const char*>, 2> values{
@@ -125,6 +132,7 @@ struct ReuseOptions {
   float spatial_radius = 20;
   int spatial_rounds = 1;
   restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  SpatialPairing spatial_pairing = SpatialPairing::none;
   bool similarity_rejection = true;
   float depth_threshold = 0.1f;
   float normal_threshold = 25;
@@ -204,6 +212,11 @@ void visit_reuse(const char* prefix, R& r, V& v) {
   v((p + "spatial_radius").c_str(), r.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
   v((p + "spatial_rounds").c_str(), r.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
   v((p + "spatial_mis").c_str(), r.spatial_mis, "resampling MIS for spatial reuse");
+  v((p + "spatial_pairing").c_str(), r.spatial_pairing,
+    "paired: reciprocal neighbours from pairing textures (Lin, Kettunen, Wyman 2026, ReSTIR PT Enhanced sec. 3): a "
+    "pixel's partners reuse from it in turn, so each pair's two shifts are made once (half the spatial pass's shifts and "
+    "rays); spatial_neighbors textures, Gaussian offsets of sigma = 0.53 x spatial_radius; unbiased; needs spatial_mis = "
+    "pairwise. none: a golden-angle spiral per pixel");
   v((p + "similarity_rejection").c_str(), r.similarity_rejection, "skip neighbours / history whose depth or normal differ");
   v((p + "depth_threshold").c_str(), r.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
   v((p + "normal_threshold").c_str(), r.normal_threshold, "max normal angle (degrees) between a pixel and a reused one",

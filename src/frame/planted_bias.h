@@ -21,6 +21,12 @@ struct PlantedBias {
   // ReSTIR GI in an animated scene: the history keeps its cached radiance and position, evaluated in
   // this frame's scene (what a GI without issue 11's replay would do: a switched-off light's ghost).
   bool gi_history_cached = false;
+  // Paired spatial reuse (paired_reuse.h): the shift pass rejects partners farther from the camera
+  // (a one-sided test: one pixel of each pair shifts, the resampling pass accepts both); or the
+  // partner's offset skips the transform's transpose, so a partner's partner is not the pixel (a
+  // broken involution).
+  bool pairing_one_sided = false;
+  bool pairing_broken = false;
 };
 
 }  // namespace rl

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "frame/integrator.h"
+#include "frame/paired_reuse.h"
 #include "frame/reuse_pixel.h"
 
 namespace rl {
@@ -41,6 +42,34 @@ struct SpatialStage {
   int round;
   ReuseDebugView dbg;
   RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y); }
+};
+
+// Paired spatial reuse (paired_reuse.h): pass 1, each pixel's sample shifted to its partners.
+template <class Res, class Bridges>
+struct PairedShiftStage {
+  Bridges bridges;
+  ReuseOptions rp;
+  GBufferView g;
+  const Res* reservoirs;
+  PairedShift* shifts;
+  PairedRound round;
+  RESTIR_HD void operator()(int x, int y) const { paired_shift_pixel(rp, g, reservoirs, shifts, bridges, round, x, y); }
+};
+
+// Pass 2: each pixel's reservoir combined with its partners' from the shifts of pass 1.
+template <class Res, class Bridges>
+struct PairedResampleStage {
+  Bridges bridges;
+  ReuseOptions rp;
+  GBufferView g;
+  const Res* reservoirs;
+  const PairedShift* shifts;
+  Res* next;
+  PairedRound round;
+  ReuseDebugView dbg;
+  RESTIR_HD void operator()(int x, int y) const {
+    paired_resample_pixel(rp, g, reservoirs, shifts, next, bridges, round, dbg, x, y);
+  }
 };
 
 // A ReSTIR frame's initial candidates: out[p] = sample(surface, x, y, p) at every pixel.
@@ -94,6 +123,15 @@ struct ReservoirChain {
   Array<Res> scratch;  // a reuse pass's output, swapped with reservoirs
   Array<uint8_t> source;
   Array<uint16_t> tried, rejected;
+  // Paired spatial reuse: the pairing textures (built on the host, mirrored to the backend) and
+  // each pixel's shifts to its partners (spatial_neighbors x pixels).
+  PairingTextures pairing;
+  Array<int16_t> pairing_offsets;
+  Array<uint32_t> pairing_first;
+  Array<int32_t> pairing_sizes;
+  Array<PairingTransform> pairing_transforms;
+  std::vector<PairingTransform> host_transforms;
+  Array<PairedShift> paired_shifts;
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
 
@@ -116,9 +154,10 @@ struct ReservoirChain {
   }
 
   // Temporal reuse (when there is a compatible history), then the spatial rounds; bridges(surfaces,
-  // n, temporal) makes a pixel's bridge (mis.h).
+  // n, temporal) makes a pixel's bridge (mis.h). planted: tests only (planted_bias.h).
   template <class Bridges>
-  void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f) {
+  void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f,
+             const PlantedBias* planted = nullptr) {
     using namespace chain_detail;
     if (rp.temporal && has_history && previous_width == width && previous_height == height) {
       StageTimer timer(frame.stages, "temporal");
@@ -132,9 +171,40 @@ struct ReservoirChain {
       reservoirs.swap(scratch);
     }
     StageTimer timer(frame.stages, "spatial");
+    if (rp.spatial_pairing == SpatialPairing::paired) {
+      paired_rounds(rp, bridges, f, planted);
+      return;
+    }
     for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
       const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug()};
       Exec::for_pixels(width, height, stage, "spatial reuse");
+      reservoirs.swap(scratch);
+    }
+  }
+
+  // The spatial rounds of paired reuse (paired_reuse.h): per round, the shift pass, then the
+  // resampling pass.
+  template <class Bridges>
+  void paired_rounds(const ReuseOptions& rp, const Bridges& bridges, const ReuseFrame& f, const PlantedBias* planted) {
+    using namespace chain_detail;
+    const int k = std::min(rp.spatial_neighbors, PairingView::kMaxTextures);
+    if (k <= 0 || rp.spatial_rounds <= 0) return;
+    pairing.prepare(k, rp.spatial_radius);
+    const PairingView view{Exec::mirror(pairing_offsets, pairing.offsets().data(), pairing.offsets().size()),
+                           Exec::mirror(pairing_first, pairing.first().data(), pairing.first().size()),
+                           Exec::mirror(pairing_sizes, pairing.sizes().data(), pairing.sizes().size()), k};
+    paired_shifts.reserve(size_t(k) * size_t(width) * size_t(height));
+    for (int round = 0; round < rp.spatial_rounds; ++round) {
+      host_transforms.resize(size_t(k));
+      for (int t = 0; t < k; ++t) host_transforms[size_t(t)] = PairingView::transform(t, pairing.sizes()[size_t(t)], f.frame, f.seed, f.chain, round);
+      const PairingTransform* transforms = Exec::mirror(pairing_transforms, host_transforms.data(), host_transforms.size());
+      const PairedRound pr{view, transforms, f, round, planted && planted->pairing_one_sided, planted && planted->pairing_broken};
+      Exec::for_pixels(width, height, PairedShiftStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr},
+                       "paired reuse: shifts");
+      Exec::for_pixels(width, height,
+                       PairedResampleStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, scratch.data, pr,
+                                                         debug()},
+                       "paired reuse: resampling");
       reservoirs.swap(scratch);
     }
   }

@@ -25,6 +25,7 @@ namespace rl::restir {
 
 template <class Sample>
 struct Reservoir {
+  using SampleType = Sample;
   Sample sample{};
   float target = 0;      // p̂(sample) in the reservoir's own domain
   float weight_sum = 0;  // Σ w_i while streaming

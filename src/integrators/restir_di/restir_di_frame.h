@@ -95,7 +95,7 @@ class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
     c.reuse(di.reuse, frame,
             DiBridges<Tracer>{fw, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
                               di.history_scene == HistoryScene::previous, planted_now},
-            f);
+            f, ctx_.planted);
     this->template shade<DiReservoir>(frame, c, Shader<Tracer>{fw, di.visibility_reuse, f}, "ReSTIR DI shading");
   }
 

@@ -79,7 +79,7 @@ class RestirGiFrame final : public ReservoirFrame<B, RestirGiChain<B>> {
     c.specular.reserve(size_t(c.width) * size_t(c.height));
     this->template candidates<GiReservoir>(frame, c, Sampler<Tracer>{fw, path_, o.gi.target, f, c.specular.data}, "ReSTIR GI samples");
     const bool replay = !(ctx_.planted && ctx_.planted->gi_history_cached);
-    c.reuse(o.gi.reuse, frame, GiBridges<Tracer>{fw, o.gi.target, path_, replay}, f);
+    c.reuse(o.gi.reuse, frame, GiBridges<Tracer>{fw, o.gi.target, path_, replay}, f, ctx_.planted);
     this->template shade<GiReservoir>(frame, c, Shader{c.specular.data}, "ReSTIR GI shading");
   }
 

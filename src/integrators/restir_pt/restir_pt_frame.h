@@ -77,7 +77,8 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     this->template candidates<PathReservoir>(frame, c, Sampler<Tracer>{fw, settings_, o.pt.candidates, f}, "ReSTIR PT initial paths");
     const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
     c.reuse(o.pt.reuse, frame,
-            PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f);
+            PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f,
+            ctx_.planted);
     this->template shade<PathReservoir>(frame, c, Shader{direct_ != nullptr}, "ReSTIR PT shading");
     if (o.render.debug_view == DebugView::reconnection_depth) {
       std::vector<PathReservoir> host(size_t(c.width) * size_t(c.height));
