@@ -133,6 +133,7 @@ struct ReuseOptions {
   int spatial_rounds = 1;
   restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
   SpatialPairing spatial_pairing = SpatialPairing::none;
+  float boiling_filter = 0;  // RTXDI's boiling filter strength (0: off; biased)
   bool similarity_rejection = true;
   float depth_threshold = 0.1f;
   float normal_threshold = 25;
@@ -217,6 +218,11 @@ void visit_reuse(const char* prefix, R& r, V& v) {
     "pixel's partners reuse from it in turn, so each pair's two shifts are made once (half the spatial pass's shifts and "
     "rays); spatial_neighbors textures, Gaussian offsets of sigma = 0.53 x spatial_radius; unbiased; needs spatial_mis = "
     "pairwise. none: a golden-angle spiral per pixel");
+  v((p + "boiling_filter").c_str(), r.boiling_filter,
+    "BIASED (named option): RTXDI's boiling filter, strength in (0, 1]: after reuse, a reservoir whose unbiased "
+    "contribution weight W exceeds (10 / strength - 9) x the mean nonzero W of its 16x16-pixel block is dropped "
+    "(removes the blotches that one rare sample spreads by reuse, and its energy); 0 = off. Measured bias: docs/enhanced.md",
+    Range{0, 1});
   v((p + "similarity_rejection").c_str(), r.similarity_rejection, "skip neighbours / history whose depth or normal differ");
   v((p + "depth_threshold").c_str(), r.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
   v((p + "normal_threshold").c_str(), r.normal_threshold, "max normal angle (degrees) between a pixel and a reused one",

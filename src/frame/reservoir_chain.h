@@ -72,6 +72,46 @@ struct PairedResampleStage {
   }
 };
 
+// RTXDI's boiling filter (biased; *.boiling_filter): pass 1, the mean unbiased contribution weight
+// W of the reservoirs with W > 0 in each 16x16-pixel block, summed in pixel order (the same on
+// every backend and thread count).
+inline constexpr int kBoilingBlock = 16;
+template <class Res>
+struct BoilingMeanStage {
+  const Res* reservoirs;
+  float* block_mean;
+  int width, height, blocks_x;
+  RESTIR_HD void operator()(size_t b) const {
+    const int x0 = int(b % size_t(blocks_x)) * kBoilingBlock, y0 = int(b / size_t(blocks_x)) * kBoilingBlock;
+    float sum = 0;
+    int count = 0;
+    for (int y = y0; y < y0 + kBoilingBlock && y < height; ++y)
+      for (int x = x0; x < x0 + kBoilingBlock && x < width; ++x) {
+        const float w = reservoirs[size_t(y) * size_t(width) + size_t(x)].ucw;
+        if (w > 0) sum += w, ++count;
+      }
+    block_mean[b] = count > 0 ? sum / float(count) : 0.0f;
+  }
+};
+
+// Pass 2: a reservoir whose W exceeds `multiplier` x its block's mean is emptied. A sample that a
+// rare candidate found and that spatiotemporal reuse then spreads over a region (a "boiling"
+// blotch) has a W far above its neighbours'. RTXDI (RTXDI_BoilingFilter) compares W with the mean
+// nonzero W of the thread group, multiplier = 10 / strength - 9. Dropping a sample removes its
+// energy: the estimator is no longer unbiased (the bias is measured in README and `restir options`).
+template <class Res>
+struct BoilingDropStage {
+  Res* reservoirs;
+  const float* block_mean;
+  int width, blocks_x;
+  float multiplier;
+  RESTIR_HD void operator()(int x, int y) const {
+    Res& r = reservoirs[size_t(y) * size_t(width) + size_t(x)];
+    const float mean = block_mean[size_t(y / kBoilingBlock) * size_t(blocks_x) + size_t(x / kBoilingBlock)];
+    if (r.ucw > mean * multiplier) r = Res{};
+  }
+};
+
 // A ReSTIR frame's initial candidates: out[p] = sample(surface, x, y, p) at every pixel.
 template <class Res, class Sampler>
 struct CandidateStage {
@@ -132,6 +172,7 @@ struct ReservoirChain {
   Array<PairingTransform> pairing_transforms;
   std::vector<PairingTransform> host_transforms;
   Array<PairedShift> paired_shifts;
+  Array<float> boiling_means;  // the boiling filter's per-block mean W
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
 
@@ -170,16 +211,32 @@ struct ReservoirChain {
       Exec::for_pixels(width, height, stage, "temporal reuse");
       reservoirs.swap(scratch);
     }
-    StageTimer timer(frame.stages, "spatial");
-    if (rp.spatial_pairing == SpatialPairing::paired) {
-      paired_rounds(rp, bridges, f, planted);
-      return;
+    {
+      StageTimer timer(frame.stages, "spatial");
+      if (rp.spatial_pairing == SpatialPairing::paired) {
+        paired_rounds(rp, bridges, f, planted);
+      } else {
+        for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
+          const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug()};
+          Exec::for_pixels(width, height, stage, "spatial reuse");
+          reservoirs.swap(scratch);
+        }
+      }
     }
-    for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
-      const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug()};
-      Exec::for_pixels(width, height, stage, "spatial reuse");
-      reservoirs.swap(scratch);
-    }
+    if (rp.boiling_filter > 0) boiling_filter(rp.boiling_filter, frame);
+  }
+
+  // RTXDI's boiling filter over this frame's final reservoirs (the ones shaded and kept as history).
+  void boiling_filter(float strength, const FrameInfo& frame) {
+    using namespace chain_detail;
+    StageTimer timer(frame.stages, "boiling_filter");
+    const int blocks_x = (width + kBoilingBlock - 1) / kBoilingBlock, blocks_y = (height + kBoilingBlock - 1) / kBoilingBlock;
+    const size_t blocks = size_t(blocks_x) * size_t(blocks_y);
+    boiling_means.reserve(blocks);
+    Exec::for_each(blocks, BoilingMeanStage<Res>{reservoirs.data, boiling_means.data, width, height, blocks_x}, "boiling filter: means");
+    const float multiplier = 10.0f / std::min(std::max(strength, 1e-6f), 1.0f) - 9.0f;
+    Exec::for_pixels(width, height, BoilingDropStage<Res>{reservoirs.data, boiling_means.data, width, blocks_x, multiplier},
+                     "boiling filter");
   }
 
   // The spatial rounds of paired reuse (paired_reuse.h): per round, the shift pass, then the
