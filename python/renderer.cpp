@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -81,6 +82,7 @@ class PyRenderer {
   void render_frame(const std::optional<CameraKey>& camera) {
     const Options& o = renderer_->options();
     const CameraKey key = camera ? *camera : camera_.at_frame(renderer_->frames_rendered(), o.render.frames);
+    const std::unique_lock busy = claim("render_frame");
     stages_ = StageTimes{};
     const auto poll = signal_poll();
     try {
@@ -96,6 +98,7 @@ class PyRenderer {
 
   // New option values on top of the current ones; the history restarts (frame 0).
   void reset(nb::handle options) {
+    const std::unique_lock busy = claim("reset");
     Options o = renderer_->options();
     for (const auto& [k, v] : option_assignments(options)) set_option(o, k, v);
     if (o.film.width != image_.width || o.film.height != image_.height)
@@ -123,6 +126,14 @@ class PyRenderer {
   std::unique_ptr<FrameRenderer> renderer_;
 
  private:
+  // The GIL is released while a frame renders: a second Python thread calling in meanwhile is refused,
+  // not raced.
+  std::unique_lock<std::mutex> claim(const char* what) {
+    std::unique_lock lock(busy_, std::try_to_lock);
+    if (!lock.owns_lock()) throw std::runtime_error(std::string("Renderer.") + what + ": the renderer is rendering in another thread");
+    return lock;
+  }
+  std::mutex busy_;
   std::shared_ptr<Scene> scene_;  // the FrameRenderer refers to it
   Camera camera_;
   StageTimes stages_;
