@@ -63,15 +63,24 @@ std::function<void(int, int)> signal_poll() {
   };
 }
 
+// The cameras of the sequence, as render() finds them: the camera path's keys, or the scene's camera.
+Camera camera_of(const Scene& scene, const Options& o) {
+  Camera camera = scene.camera;
+  if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
+  if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
+  return camera;
+}
+
 class PyRenderer {
+  // First: the FrameRenderer refers to the scene, which must outlive it (members die in reverse order).
+  std::shared_ptr<Scene> scene_;
+
  public:
   PyRenderer(std::shared_ptr<Scene> scene, const Settings& s, nb::handle options) : scene_(std::move(scene)) {
     const Options o = resolve_options(*scene_, s, options, notes_);
     for (const std::string& n : notes_)
       if (n.starts_with("warning: ")) PyErr_WarnEx(PyExc_RuntimeWarning, n.c_str() + 9, 1);
-    camera_ = scene_->camera;  // as render() does: the scene's camera, or the camera path's keys
-    if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera_);
-    if (camera_.keys.empty()) camera_.keys.push_back(CameraKey{});
+    camera_ = camera_of(*scene_, o);
     nb::gil_scoped_release unlocked;  // the BVH build
     renderer_ = std::make_unique<FrameRenderer>(*scene_, o);
     // Allocated once: image() views stay valid as long as the renderer (the film size never changes).
@@ -80,9 +89,9 @@ class PyRenderer {
 
   // The next frame, seen through `camera` or the scene's camera (path) at this frame.
   void render_frame(const std::optional<CameraKey>& camera) {
+    const std::unique_lock busy = claim("render_frame");
     const Options& o = renderer_->options();
     const CameraKey key = camera ? *camera : camera_.at_frame(renderer_->frames_rendered(), o.render.frames);
-    const std::unique_lock busy = claim("render_frame");
     stages_ = StageTimes{};
     const auto poll = signal_poll();
     try {
@@ -104,8 +113,12 @@ class PyRenderer {
     if (o.film.width != image_.width || o.film.height != image_.height)
       throw OptionError("reset: film.width and film.height are fixed for a Renderer (image() views share its buffer); make a new Renderer");
     validate_options(o);
-    nb::gil_scoped_release unlocked;
-    renderer_->reset(o);
+    Camera camera = camera_of(*scene_, o);
+    {
+      nb::gil_scoped_release unlocked;
+      renderer_->reset(o);
+    }
+    camera_ = std::move(camera);
   }
 
   nb::dict stage_times() const {
@@ -134,7 +147,6 @@ class PyRenderer {
     return lock;
   }
   std::mutex busy_;
-  std::shared_ptr<Scene> scene_;  // the FrameRenderer refers to it
   Camera camera_;
   StageTimes stages_;
 };

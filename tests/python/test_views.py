@@ -64,3 +64,11 @@ def test_thousand_frames_do_not_grow(rl, cornell):
     print(f"RSS after 200 frames {warm / 2**20:.1f} MiB, growth over 800 more {growth / 1024:.0f} KiB")
     assert r.frame == 1000 and np.isfinite(total)
     assert growth < 1 << 20, f"RSS grew {growth} bytes over 800 frames"
+
+
+def test_renderer_keeps_its_scene(rl):
+    from conftest import CORNELL
+    r = rl.Renderer(rl.load_scene(CORNELL), "pt", {"film.width": W, "film.height": H}, spp=1)  # no other reference
+    gc.collect()
+    r.render_frame()
+    assert r.image().any()
