@@ -61,6 +61,7 @@ def main():
     print(f"  Python, render_frame() wall time   {w:9.2f}")
     print(f"  Python, the renderer's frame_ms    {n:9.2f}")
     print(f"ratio Python / CLI: {w / c:.4f} ({100 * (w / c - 1):+.2f} %; target within 2 %)")
+    print(f"the binding's own cost (wall / frame_ms): {w / n:.4f} ({w - n:.3f} ms per frame)")
 
 
 if __name__ == "__main__":

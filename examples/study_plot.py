@@ -24,10 +24,12 @@ def main():
     result = rl.study(args.study, args.out, quick=not args.full)
     df = result.to_pandas()
     print(df.head())
-    axis = next(c for c in df.columns if c.startswith(("pt.", "di.", "gi.")))  # the swept key
+    # The swept key: an option column (dotted) whose value changes between rows, the seed aside.
+    axis = next(c for c in df.columns if "." in c and c != "render.seed" and df[c].nunique() > 1)
     table = df.groupby(["scene", axis])["relmse"].mean().unstack("scene")
     ax = table.plot(marker="o", logy=True, title=f"{args.study}: relMSE")
     ax.set_ylabel("relMSE")
+    plt.tight_layout()
     plt.savefig(f"{args.out}/python-plot.png", dpi=100)
     print(f"wrote {args.out}/python-plot.png; the study's own report: {result.report}")
 
