@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from conftest import CORNELL, run_cli
+from conftest import CORNELL, ROOT, run_cli
 
 
 def cli_render(tmp_path, name, *args):
@@ -14,17 +14,21 @@ def cli_render(tmp_path, name, *args):
     return out
 
 
-@pytest.mark.parametrize("integrator,frames,sets", [
-    ("restir-pt", 5, {"pt.shift": "hybrid", "path.max_depth": 4}),
-    ("restir-di", 4, {"di.spatial_neighbors": 3}),
-    ("restir-gi", 3, {"path.max_depth": 3}),
+@pytest.mark.parametrize("scene,integrator,frames,sets", [
+    (CORNELL, "restir-pt", 5, {"pt.shift": "hybrid", "path.max_depth": 4}),
+    (CORNELL, "restir-di", 4, {"di.spatial_neighbors": 3}),
+    (CORNELL, "restir-gi", 3, {"path.max_depth": 3}),
+    (CORNELL, "restir-di", 4, {"render.camera_path": str(ROOT / "scenes" / "cornell-box.camera.json")}),  # a moving camera
+    (str(ROOT / "scenes" / "dynamic-room.pbrt"), "restir-pt", 3, {"path.max_depth": 3, "pt.shift": "random-replay"}),  # animated
 ])
-def test_frames_equal_cli_sequence(rl, cornell, tmp_path, integrator, frames, sets):
+def test_frames_equal_cli_sequence(rl, tmp_path, scene, integrator, frames, sets):
     args = ["--integrator", integrator, "--frames", frames, "--spp", 1, "--res", "48x32"]
     for k, v in sets.items():
         args += ["--set", f"{k}={v}"]
-    cli = rl.read_image(str(cli_render(tmp_path, integrator, *args)))
-    r = rl.Renderer(cornell, integrator, {"film.width": 48, "film.height": 32, **sets}, spp=1, frames=frames)
+    out = tmp_path / f"{integrator}.exr"
+    run_cli("render", scene, "-q", "-o", out, *args)
+    cli = rl.read_image(str(out))
+    r = rl.Renderer(rl.load_scene(scene), integrator, {"film.width": 48, "film.height": 32, **sets}, spp=1, frames=frames)
     for _ in range(frames):
         r.render_frame()
     img = r.image()
