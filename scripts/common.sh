@@ -3,7 +3,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PACKAGES=(g++ cmake ninja-build pkg-config libembree-dev libtbb-dev libopenexr-dev libstb-dev
   libtinyobjloader-dev libtinygltf-dev libcli11-dev nlohmann-json3-dev libfmt-dev doctest-dev gnuplot-nox
-  libglfw3-dev libimgui-dev libgl-dev)  # the last three: the viewer, `restir view` (CMake option RESTIR_VIEWER)
+  libglfw3-dev libimgui-dev libgl-dev  # these three: the viewer, `restir view` (CMake option RESTIR_VIEWER)
+  python3-venv python3-dev)  # the Python module restirlab (RESTIR_PYTHON; its PyPI packages: python_venv)
 
 install_missing_packages() {
   local missing=()
@@ -55,4 +56,13 @@ build() {
 # gpu_present: an NVIDIA GPU this machine can run on (nvidia-smi lists one).
 gpu_present() {
   command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q '^GPU '
+}
+
+# python_venv DIR: a virtual environment with what the Python module's build and tests need from
+# PyPI (tests/python/requirements.txt; nanobind has no Debian package); prints its interpreter.
+python_venv() {
+  local dir="$1"
+  [ -x "$dir/bin/python" ] || python3 -m venv "$dir" >&2
+  "$dir/bin/python" -m pip install -q --disable-pip-version-check -r "$ROOT/tests/python/requirements.txt" >&2
+  echo "$dir/bin/python"
 }

@@ -17,6 +17,9 @@ done
 install_missing_packages
 install_optional_packages slurm-wlm munge  # tests/study/slurm_study.sh: a private one-node Slurm cluster
 install_optional_packages xvfb xauth libgl1-mesa-dri libglx-mesa0 xdotool  # tests/viewer/viewer_script.sh: the viewer under Xvfb + Mesa
+# The Python module and its tests (ctest's `python`); not under the sanitizers, which a Python
+# interpreter does not load.
+[ "$dir" = "$ROOT/build-asan" ] || cmake_args+=(-DRESTIR_PYTHON=ON -DPython_EXECUTABLE="$(python_venv "$dir/pyenv")")
 build "$dir" "${cmake_args[@]}"
 cd "$dir"
 ctest -j "$(nproc)" --output-on-failure --timeout 900 "${ctest_args[@]}"
