@@ -2,6 +2,7 @@
 // does not depend on the thread count and random replay can regenerate a path exactly.
 #pragma once
 #include <cstdint>
+#include <cstring>
 
 #include "core/math.h"
 
@@ -18,6 +19,17 @@ RESTIR_HD inline uint64_t mix64(uint64_t v) {
 }
 
 RESTIR_HD inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ (b + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2))); }
+
+// A float's bits (memcpy: defined behaviour on the host and the device alike).
+RESTIR_HD inline uint32_t float_bits(float f) {
+  uint32_t u;
+  memcpy(&u, &f, sizeof u);
+  return u;
+}
+// A hash of a point's exact bits: equal for copies of one sample, different otherwise (in practice).
+RESTIR_HD inline uint64_t hash_point(Vec3 p, uint64_t salt) {
+  return hash_combine(hash_combine(hash_combine(mix64(salt), float_bits(p.x)), float_bits(p.y)), float_bits(p.z));
+}
 
 // Well-known stream identifiers ("pass" in the hash) so two uses never share random numbers.
 enum class RngPass : uint32_t {

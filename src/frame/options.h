@@ -134,6 +134,7 @@ struct ReuseOptions {
   restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
   SpatialPairing spatial_pairing = SpatialPairing::none;
   float boiling_filter = 0;  // RTXDI's boiling filter strength (0: off; biased)
+  bool duplication_map = false;  // ReSTIR PT Enhanced's duplication maps cap the history (biased)
   bool similarity_rejection = true;
   float depth_threshold = 0.1f;
   float normal_threshold = 25;
@@ -223,6 +224,12 @@ void visit_reuse(const char* prefix, R& r, V& v) {
     "contribution weight W exceeds (10 / strength - 9) x the mean nonzero W of its 16x16-pixel block is dropped "
     "(removes the blotches that one rare sample spreads by reuse, and its energy); 0 = off. Measured bias: docs/enhanced.md",
     Range{0, 1});
+  v((p + "duplication_map").c_str(), r.duplication_map,
+    "BIASED (named option): duplication maps (Lin, Kettunen, Wyman 2026, sec. 5): after each frame, D = the share of the "
+    "288 other pixels in a 17x17 window whose reservoir holds the same sample; next frame's temporal M-cap there becomes "
+    "lerp(max_history, 1, D^0.1) (fewer frames of history where reuse has copied one sample over a region: less "
+    "blotching, some energy lost). Measured bias: docs/enhanced.md",
+    Range{});
   v((p + "similarity_rejection").c_str(), r.similarity_rejection, "skip neighbours / history whose depth or normal differ");
   v((p + "depth_threshold").c_str(), r.depth_threshold, "max relative depth difference of a reused pixel", Range{0, 1e6});
   v((p + "normal_threshold").c_str(), r.normal_threshold, "max normal angle (degrees) between a pixel and a reused one",

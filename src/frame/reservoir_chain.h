@@ -26,8 +26,9 @@ struct TemporalStage {
   Res* next;
   ReuseFrame f;
   ReuseDebugView dbg;
+  const float* history_caps;  // the duplication map's M-caps (null: off)
   RESTIR_HD void operator()(int x, int y) const {
-    temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y);
+    temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y, history_caps);
   }
 };
 
@@ -112,6 +113,39 @@ struct BoilingDropStage {
   }
 };
 
+// Duplication maps (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 5; biased;
+// *.duplication_map): pass 1, each pixel's sample identity (duplicate_key, 0 for none).
+template <class Res>
+struct DuplicateKeyStage {
+  const Res* reservoirs;
+  uint64_t* keys;
+  RESTIR_HD void operator()(size_t i) const { keys[i] = reservoirs[i].has_sample() ? duplicate_key(reservoirs[i].sample) | 1u : 0; }
+};
+
+// Pass 2: D = the share of the other 288 pixels of the 17x17 window (those on screen count; the
+// paper's denominator stays 288) holding the same sample, and next frame's M-cap at this pixel
+// lerp(max_history, 1, D^0.1) (the paper's alpha = 0.1): spatiotemporal reuse that has copied one
+// sample over a region is what makes ReSTIR's correlation blotches, so that region keeps less history.
+inline constexpr int kDuplicationRadius = 8;
+struct DuplicationCapStage {
+  const uint64_t* keys;
+  float* caps;
+  int width, height;
+  float max_history;  // rp.max_history, or kMaxConfidence for no cap
+  RESTIR_HD void operator()(int x, int y) const {
+    const uint64_t key = keys[size_t(y) * size_t(width) + size_t(x)];
+    int same = 0;
+    if (key != 0)
+      for (int v = y - kDuplicationRadius; v <= y + kDuplicationRadius; ++v)
+        for (int u = x - kDuplicationRadius; u <= x + kDuplicationRadius; ++u)
+          if (v >= 0 && u >= 0 && v < height && u < width && (u != x || v != y) && keys[size_t(v) * size_t(width) + size_t(u)] == key)
+            ++same;
+    const float d = float(same) / 288.0f;
+    const float t = d > 0 ? powf(d, 0.1f) : 0.0f;
+    caps[size_t(y) * size_t(width) + size_t(x)] = max_history + (1.0f - max_history) * t;
+  }
+};
+
 // A ReSTIR frame's initial candidates: out[p] = sample(surface, x, y, p) at every pixel.
 template <class Res, class Sampler>
 struct CandidateStage {
@@ -173,6 +207,9 @@ struct ReservoirChain {
   std::vector<PairingTransform> host_transforms;
   Array<PairedShift> paired_shifts;
   Array<float> boiling_means;  // the boiling filter's per-block mean W
+  Array<uint64_t> duplicate_keys;
+  Array<float> history_caps;  // the duplication map's M-caps of this frame's pixels, read by the next frame's temporal pass
+  bool has_history_caps = false;
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
 
@@ -207,7 +244,8 @@ struct ReservoirChain {
                                               view(),          GBufferView{previous_gbuffer.data, width, height},
                                               previous_camera, reservoirs.data,
                                               previous.data,   scratch.data,
-                                              f,               debug()};
+                                              f,               debug(),
+                                              rp.duplication_map && has_history_caps ? history_caps.data : nullptr};
       Exec::for_pixels(width, height, stage, "temporal reuse");
       reservoirs.swap(scratch);
     }
@@ -224,6 +262,19 @@ struct ReservoirChain {
       }
     }
     if (rp.boiling_filter > 0) boiling_filter(rp.boiling_filter, frame);
+    has_history_caps = rp.duplication_map;
+    if (rp.duplication_map) duplication_map(rp, frame);
+  }
+
+  // The duplication map of this frame's final reservoirs, as the next frame's per-pixel M-caps.
+  void duplication_map(const ReuseOptions& rp, const FrameInfo& frame) {
+    using namespace chain_detail;
+    StageTimer timer(frame.stages, "duplication_map");
+    const size_t n = size_t(width) * size_t(height);
+    duplicate_keys.reserve(n), history_caps.reserve(n);
+    Exec::for_each(n, DuplicateKeyStage<Res>{reservoirs.data, duplicate_keys.data}, "duplication map: keys");
+    const float cap = rp.max_history > 0 ? float(rp.max_history) : restir::kMaxConfidence;
+    Exec::for_pixels(width, height, DuplicationCapStage{duplicate_keys.data, history_caps.data, width, height, cap}, "duplication map");
   }
 
   // RTXDI's boiling filter over this frame's final reservoirs (the ones shaded and kept as history).

@@ -93,10 +93,12 @@ RESTIR_HD bool add_debug_view(DebugView view, const restir::Reservoir<Sample>& r
 
 // Temporal reuse at pixel (x, y): its reservoir combined with last frame's final reservoir at the
 // reprojected pixel (if that surface is similar), the history's confidence capped (M-cap), into next.
+// history_caps: per previous-frame pixel, the M-cap the duplication map set (null: rp.max_history).
 template <class Res, class MakeBridge>
 RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, const GBufferView& previous_g,
                               const PerspectiveCamera& previous_camera, const Res* reservoirs, const Res* history, Res* next,
-                              const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y) {
+                              const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y,
+                              const float* history_caps = nullptr) {
   const uint32_t p = uint32_t(y * g.width + x);
   const GSurface& cur = g.at(x, y);
   next[p] = reservoirs[p];
@@ -121,7 +123,8 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
     return;
   }
   Res hist = history[size_t(py * g.width + px)];
-  hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, float(rp.max_history));
+  const float cap = history_caps ? history_caps[size_t(py * g.width + px)] : float(rp.max_history);
+  hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, cap);
   const GSurface* surfaces[2] = {&cur, &prev};
   const Res* inputs[2] = {&reservoirs[p], &hist};
   auto bridge = make_bridge(surfaces, 2, true);

@@ -15,6 +15,9 @@ struct LightPoint {
   Vec3 position;               // on the emitter; the direction itself for the environment and distant lights
   uint32_t emitter = kNoEmitter;
 };
+// The sample's identity for the duplication map (reservoir_chain.h): reuse copies a light point
+// bit for bit (the identity shift).
+RESTIR_HD inline uint64_t duplicate_key(const LightPoint& y) { return hash_point(y.position, y.emitter); }
 
 // One pre-selected emitter of a light tile and its selection probability.
 struct LightTileEntry {

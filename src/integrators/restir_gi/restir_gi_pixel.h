@@ -21,6 +21,8 @@ struct GiSample {
   Pcg32 suffix;       // the random stream of the path that estimated `radiance` (replayed across frames)
 };
 using GiReservoir = restir::Reservoir<GiSample>;
+// The sample's identity for the duplication map (reservoir_chain.h): reconnection keeps x_s.
+RESTIR_HD inline uint64_t duplicate_key(const GiSample& x) { return hash_point(x.position, x.prim); }
 
 // f_s(wo, wi) |cos| L_o at visible surface s for sample x (no visibility).
 RESTIR_HD inline Rgb gi_integrand(const GSurface& s, const GiSample& x) {

@@ -60,6 +60,9 @@ struct PathSample {
 };
 
 using PathReservoir = restir::Reservoir<PathSample>;
+// The sample's identity for the duplication map (reservoir_chain.h): the walk's random stream, which
+// every shift keeps (ReSTIR PT Enhanced, sec. 5: "share the same initial random seed").
+RESTIR_HD inline uint64_t duplicate_key(const PathSample& x) { return mix64(x.seed); }
 static_assert(sizeof(PathReservoir) <= 160, "ReSTIR PT's reservoir outgrew 160 bytes (bench_scaling prints its size)");
 
 // What a walk and a shift read: the path tracer's settings (path.*), so that restir-pt and its

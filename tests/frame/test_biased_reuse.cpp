@@ -1,7 +1,10 @@
-// RTXDI's boiling filter (frame/reservoir_chain.h, *.boiling_filter; a named biased option): a
-// reservoir whose W stands far above its 16x16 block's mean nonzero W is dropped, the others are
-// kept; strength s sets the multiplier 10 / s - 9; and in a render it removes energy (biased, as
-// labelled), the more the stronger, while 0 leaves the image bit for bit as it was.
+// The named biased reuse options of frame/reservoir_chain.h:
+//  - RTXDI's boiling filter (*.boiling_filter): a reservoir whose W stands far above its 16x16
+//    block's mean nonzero W is dropped, the others are kept; strength s sets the multiplier
+//    10 / s - 9; in a render it removes energy, while 0 leaves the image bit for bit as it was;
+//  - duplication maps (*.duplication_map; ReSTIR PT Enhanced sec. 5): the M-cap falls from
+//    max_history toward 1 with the share D of the 17x17 window holding the same sample, as
+//    lerp(max_history, 1, D^0.1); deterministic in a render.
 #include <doctest/doctest.h>
 
 #include "frame/render.h"
@@ -39,7 +42,7 @@ double image_mean(const Image& img) {
 
 }  // namespace
 
-TEST_SUITE("boiling_filter") {
+TEST_SUITE("biased_reuse") {
   TEST_CASE("a reservoir far above its block's mean nonzero W is dropped; its neighbours and other blocks are kept") {
     const int w = 32, h = 20;  // 2 x 2 blocks, the lower ones partial
     std::vector<float> ucw(size_t(w) * h, 1.0f);
@@ -68,5 +71,41 @@ TEST_SUITE("boiling_filter") {
     CHECK(image_mean(strong) < 0.98 * image_mean(plain));  // measured: -4%
     set_option(o, "render.threads", "1");
     CHECK(render(scene, o).last.pixels == strong.pixels);
+  }
+
+  TEST_CASE("duplication map: the M-cap is lerp(max_history, 1, D^0.1), D the window's share of the same sample") {
+    const int w = 40, h = 30;
+    std::vector<uint64_t> keys(size_t(w) * h);
+    for (size_t i = 0; i < keys.size(); ++i) keys[i] = 1000 + i;  // all different
+    for (int y = 0; y < 17; ++y)
+      for (int x = 0; x < 17; ++x) keys[size_t(y) * w + size_t(x)] = 7;  // one sample copied over a 17x17 block
+    keys[size_t(25) * w + 30] = keys[size_t(25) * w + 31] = 9;          // a pair
+    keys[size_t(20) * w + 35] = 0;                                      // no sample
+    std::vector<float> caps(keys.size());
+    const chain_detail::DuplicationCapStage stage{keys.data(), caps.data(), w, h, 20.0f};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) stage(x, y);
+    CHECK(caps[size_t(8) * w + 8] == doctest::Approx(1.0f));  // the block's centre: D = 288 / 288
+    const float pair = 20.0f - 19.0f * std::pow(1.0f / 288.0f, 0.1f);
+    CHECK(caps[size_t(25) * w + 30] == doctest::Approx(pair));
+    CHECK(caps[size_t(10) * w + 30] == 20.0f);  // unique
+    CHECK(caps[size_t(20) * w + 35] == 20.0f);  // empty
+    CHECK(caps[size_t(0) * w + 0] < caps[size_t(8) * w + 30]);  // the block's corner sees 80 copies
+  }
+
+  TEST_CASE("duplication map in ReSTIR DI and PT renders: it changes the image, the same on 1 and 2 threads") {
+    Scene scene = load_scene(own_scene("many-lights.pbrt"));
+    for (const char* integrator : {"restir-di", "restir-pt"}) {
+      Options o = options_for(scene, {"render.spp=1", "render.frames=6", "film.width=48", "film.height=27"});
+      set_option(o, "integrator", integrator);
+      if (std::string(integrator) == "restir-pt") set_option(o, "path.max_depth", "2");
+      const std::string group = std::string(integrator) == "restir-di" ? "di" : "pt";
+      const Image plain = render(scene, o).last;
+      set_option(o, group + ".duplication_map", "true");
+      const Image capped = render(scene, o).last;
+      CHECK(capped.pixels != plain.pixels);
+      set_option(o, "render.threads", "1");
+      CHECK(render(scene, o).last.pixels == capped.pixels);
+    }
   }
 }
