@@ -1,0 +1,17 @@
+// The post-process stage's one switch (frame/denoiser.h): denoise.method -> a Denoiser.
+#include "frame/denoiser.h"
+#include "post/svgf.h"
+
+namespace rl {
+
+std::unique_ptr<Denoiser> make_denoiser(const Options& o) {
+  switch (o.denoise.method) {
+    case DenoiseMethod::none:
+      return nullptr;
+    case DenoiseMethod::svgf:
+      return std::make_unique<Svgf>(o.denoise);
+  }
+  return nullptr;
+}
+
+}  // namespace rl
