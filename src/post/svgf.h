@@ -14,6 +14,7 @@
 // Pixels without a surface (the environment) pass through unchanged. Every pixel is computed from
 // fixed inputs in a fixed order: the result does not depend on the thread count.
 #pragma once
+#include <cmath>
 #include <vector>
 
 #include "frame/denoiser.h"
@@ -22,7 +23,8 @@ namespace rl {
 
 class Svgf : public Denoiser {
  public:
-  explicit Svgf(const DenoiseOptions& o) : o_(o) {}
+  explicit Svgf(const DenoiseOptions& o)
+      : o_(o), whole_n_(o.sigma_n == std::floor(o.sigma_n) && o.sigma_n <= 4096 ? int(o.sigma_n) : -1) {}
   void denoise(const Image& noisy, const Aovs& aovs, Image& out) override;
   // Each pixel's history length after the last frame, in frames including it (1 = history
   // dropped or first frame): what tests read to see reprojection keep or reject history.
@@ -48,6 +50,7 @@ class Svgf : public Denoiser {
   void atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int step) const;
 
   DenoiseOptions o_;
+  int whole_n_;  // sigma_n as a whole number (the normal weight by squaring), else -1
   int width_ = 0, height_ = 0;
   std::vector<Geometry> geometry_, previous_geometry_;
   std::vector<Rgb> demod_;  // per pixel: what radiance was divided by (albedo, 1 where a channel is ~0)
