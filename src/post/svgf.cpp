@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include <bit>
 
 #include "core/parallel.h"
 
@@ -24,16 +24,17 @@ bool same_surface(const Svgf::Geometry& a, const Svgf::Geometry& b) {
          dot(a.n, b.n) >= kNormalCos;
 }
 
-// e^-e for e in [0, 40]: 2^t = 2^floor(t) (the exponent bits) x 2^frac(t) (a degree-5 Taylor
-// polynomial, relative error < 2e-4). The a-trous passes take one per tap; std::exp was a third
-// of their time. Plain arithmetic: the same bits on every thread count and machine.
+// e^-e for e in [0, 40]: 2^t = 2^n (the exponent bits) x 2^f, n = round(t), f = t - n in
+// [-1/2, 1/2] (a degree-5 Taylor polynomial, relative error < 3e-6). n by the 1.5 x 2^23 trick:
+// only float adds and integer bit operations, which SSE2 vectorises (a float-to-int conversion in
+// the loop kept GCC from it). The a-trous passes take one per tap; std::exp was a third of their
+// time. Plain arithmetic: the same bits on every thread count and machine.
 inline float exp_neg(float e) {
-  const float t = -e * 1.44269504f, fi = std::floor(t), f = t - fi;
+  constexpr float kMagic = 12582912.0f;  // 1.5 x 2^23: adding it rounds to an integer in the low mantissa bits
+  const float t = -e * 1.44269504f, y = t + kMagic, f = t - (y - kMagic);
+  const int32_t n = std::bit_cast<int32_t>(y) - std::bit_cast<int32_t>(kMagic);
   const float p = 1.0f + f * (0.693147181f + f * (0.240226507f + f * (0.0555041087f + f * (0.00961812911f + f * 0.00133335581f))));
-  const int32_t bits = (int32_t(fi) + 127) << 23;
-  float scale;
-  std::memcpy(&scale, &bits, sizeof scale);
-  return p * scale;
+  return p * std::bit_cast<float>((n + 127) << 23);
 }
 
 // max(0, n.n')^sigma_n (eq. 4): by squaring where sigma_n is a whole number (the default 128: seven
@@ -57,6 +58,36 @@ inline float edge_weight(const Svgf::Geometry& c, const Svgf::Geometry& q, float
   if (wn == 0) return 0;
   const float e = std::fabs(c.z - q.z) * inv_phi_z + std::fabs(l - lq) * inv_phi_l;
   return e > 40 ? 0.0f : wn * exp_neg(e);
+}
+
+// One tap of an a-trous row for n pixels: the centres c, their taps q, the sums s. Separate arrays
+// the compiler is told do not alias (__restrict), so that it vectorises the loop without
+// run-time overlap checks (it gives up above ten of them).
+struct CentreRow {
+  const float *__restrict nx, *__restrict ny, *__restrict nz, *__restrict z, *__restrict l, *__restrict ipz, *__restrict ipl;
+};
+struct TapRow {
+  const float *__restrict nx, *__restrict ny, *__restrict nz, *__restrict z, *__restrict l, *__restrict var,
+      *__restrict r, *__restrict g, *__restrict b;
+};
+struct SumRow {
+  float *__restrict r, *__restrict g, *__restrict b, *__restrict var, *__restrict w;
+};
+template <int K>
+void atrous_taps(CentreRow c, TapRow q, SumRow s, int n, float k, float inv_dist, float sigma_n) {
+  for (int x = 0; x < n; ++x) {
+    const float nd = c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x];
+    float wn = nd > 0 ? nd : 0.0f;  // eq. 4 (a pixel without a surface has normal 0)
+    if constexpr (K >= 0)
+      for (int t = 0; t < K; ++t) wn *= wn;
+    else
+      wn = wn > 0 ? std::pow(wn, sigma_n) : 0.0f;
+    const float e = std::fabs(c.z[x] - q.z[x]) * (c.ipz[x] * inv_dist) + std::fabs(c.l[x] - q.l[x]) * c.ipl[x];  // eq. 3, 5
+    const float wt = e > 40 ? 0.0f : k * wn * exp_neg(std::min(e, 40.0f));
+    s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
+    s.var[x] += wt * wt * q.var[x];
+    s.w[x] += wt;
+  }
 }
 
 }  // namespace
@@ -150,54 +181,75 @@ void Svgf::estimate_variance() {
 }
 
 // Step 4, one iteration (Schied 2017 eq. 1-2): 5x5 taps of the B3 spline (1/16, 1/4, 3/8, 1/4,
-// 1/16 per axis, i.e. 1, 2/3, 1/6 relative to the centre) `step` pixels apart.
-void Svgf::atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int step) const {
+// 1/16 per axis, i.e. 1, 2/3, 1/6 relative to the centre) `step` pixels apart, over planar copies
+// of the data a row at a time: each tap is one branch-free loop over the row's pixels, which the
+// compiler vectorises (pixels are lanes; each pixel sums its taps in the same order, so the result
+// is the scalar one bit for bit). K: sigma_n = 2^K (K squarings; the default 128: 7); K < 0: pow.
+template <int K>
+void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vector<Sample>& out) const {
   constexpr float kH[3] = {1.0f, 2.0f / 3.0f, 1.0f / 6.0f};
-  float inv_dist[3][3];  // 1 / (step |(dx, dy)|) by |dx|, |dy|
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) inv_dist[a][b] = a + b == 0 ? 0 : 1 / (float(step) * std::sqrt(float(a * a + b * b)));
-  std::vector<float> lum(in.size());
-  for (size_t i = 0; i < in.size(); ++i) lum[i] = luminance(in[i].c);
-  parallel_for_tiles(width_, height_, [&](int x0, int y0, int x1, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const size_t i = size_t(y) * size_t(width_) + size_t(x);
-        const Geometry& g = geometry_[i];
-        if (g.id == kNoSurface) {
-          out[i] = in[i];
-          continue;
-        }
-        // The variance after a 3x3 Gaussian (1/4, 1/8, 1/16) steers the luminance weight (sec. 4.3).
-        float var = 0, gw = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int qx = x + dx, qy = y + dy;
-            if (qx < 0 || qy < 0 || qx >= width_ || qy >= height_) continue;
-            const float k = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
-            var += in[size_t(qy) * size_t(width_) + size_t(qx)].var * k;
-            gw += k;
-          }
-        const float inv_phi_l = 1 / (o_.sigma_l * std::sqrt(std::max(var / gw, 0.0f)) + 1e-10f);
-        const float inv_phi_zc = 1 / (o_.sigma_z * g.dz), l = lum[i];
-        float sw = 1, sv = in[i].var;
-        Rgb sc = in[i].c;
-        for (int dy = -2; dy <= 2; ++dy) {
-          const int qy = y + dy * step;
-          if (qy < 0 || qy >= height_) continue;
-          for (int dx = -2; dx <= 2; ++dx) {
-            const int qx = x + dx * step;
-            if ((dx == 0 && dy == 0) || qx < 0 || qx >= width_) continue;
-            const size_t j = size_t(qy) * size_t(width_) + size_t(qx);
-            const int ax = std::abs(dx), ay = std::abs(dy);
-            const float w = kH[ax] * kH[ay] * edge_weight(g, geometry_[j], inv_phi_zc * inv_dist[ax][ay], l, lum[j], inv_phi_l, o_.sigma_n, whole_n_);
-            if (w == 0) continue;
-            sc += in[j].c * w;
-            sv += in[j].var * w * w;
-            sw += w;
-          }
-        }
-        out[i] = {sc / sw, sv / (sw * sw)};
+  const int w = width_;
+  const size_t row = size_t(y) * size_t(w);
+  std::vector<float> acc(size_t(w) * 6);
+  float *sr = acc.data(), *sg = sr + w, *sb = sg + w, *sv = sb + w, *sw = sv + w, *ipl = sw + w;
+  for (int x = 0; x < w; ++x) {  // the variance after a 3x3 Gaussian (1/4, 1/8, 1/16) steers eq. 5
+    float var = 0, gw = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int qx = x + dx, qy = y + dy;
+        if (qx < 0 || qy < 0 || qx >= w || qy >= height_) continue;
+        const float k = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
+        var += in[size_t(qy) * size_t(w) + size_t(qx)].var * k;
+        gw += k;
       }
+    ipl[x] = 1 / (o_.sigma_l * std::sqrt(std::max(var / gw, 0.0f)) + 1e-10f);
+    sr[x] = plane_r_[row + x], sg[x] = plane_g_[row + x], sb[x] = plane_b_[row + x], sv[x] = in[row + x].var, sw[x] = 1;
+  }
+  const float *cx = plane_nx_.data() + row, *cy = plane_ny_.data() + row, *cz = plane_nz_.data() + row;
+  const float *cd = plane_z_.data() + row, *cl = plane_l_.data() + row, *ipz = plane_ipz_.data() + row;
+  for (int dy = -2; dy <= 2; ++dy) {
+    const int qy = y + dy * step;
+    if (qy < 0 || qy >= height_) continue;
+    for (int dx = -2; dx <= 2; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      const int off = dx * step, x0 = std::max(0, -off), x1 = std::min(w, w - off);
+      const size_t q = size_t(qy) * size_t(w) + size_t(off);  // + x: the tap of pixel x (x0 <= x < x1)
+      const float *qx_ = plane_nx_.data() + q, *qy_ = plane_ny_.data() + q, *qz = plane_nz_.data() + q;
+      const float *qd = plane_z_.data() + q, *ql = plane_l_.data() + q, *qv = plane_var_.data() + q;
+      const float *qr = plane_r_.data() + q, *qg = plane_g_.data() + q, *qb = plane_b_.data() + q;
+      const float k = kH[std::abs(dx)] * kH[std::abs(dy)];
+      const float inv_dist = 1 / (float(step) * std::sqrt(float(dx * dx + dy * dy)));
+      atrous_taps<K>({cx + x0, cy + x0, cz + x0, cd + x0, cl + x0, ipz + x0, ipl + x0},
+                     {qx_ + x0, qy_ + x0, qz + x0, qd + x0, ql + x0, qv + x0, qr + x0, qg + x0, qb + x0},
+                     {sr + x0, sg + x0, sb + x0, sv + x0, sw + x0}, x1 - x0, k, inv_dist, o_.sigma_n);
+    }
+  }
+  for (int x = 0; x < w; ++x) {
+    const size_t i = row + size_t(x);
+    out[i] = geometry_[i].id == kNoSurface ? in[i] : Sample{Rgb(sr[x], sg[x], sb[x]) / sw[x], sv[x] / (sw[x] * sw[x])};
+  }
+}
+
+void Svgf::atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int step) {
+  for (size_t i = 0; i < in.size(); ++i) {
+    plane_r_[i] = in[i].c.x, plane_g_[i] = in[i].c.y, plane_b_[i] = in[i].c.z;
+    plane_var_[i] = in[i].var, plane_l_[i] = luminance(in[i].c);
+  }
+  parallel_for(height_, [&](int y) {
+    switch (squarings_) {
+      case 0: atrous_row<0>(y, step, in, out); break;
+      case 1: atrous_row<1>(y, step, in, out); break;
+      case 2: atrous_row<2>(y, step, in, out); break;
+      case 3: atrous_row<3>(y, step, in, out); break;
+      case 4: atrous_row<4>(y, step, in, out); break;
+      case 5: atrous_row<5>(y, step, in, out); break;
+      case 6: atrous_row<6>(y, step, in, out); break;
+      case 7: atrous_row<7>(y, step, in, out); break;
+      case 8: atrous_row<8>(y, step, in, out); break;
+      case 9: atrous_row<9>(y, step, in, out); break;
+      case 10: atrous_row<10>(y, step, in, out); break;
+      default: atrous_row<-1>(y, step, in, out); break;
+    }
   });
 }
 
@@ -214,6 +266,14 @@ void Svgf::denoise(const Image& noisy, const Aovs& aovs, Image& out) {
   geometry_.resize(noisy.size());  // (it held the frame before last: swapped below)
   for (size_t i = 0; i < noisy.size(); ++i)
     geometry_[i] = {aovs.normal[i], aovs.depth[i], std::max(aovs.depth_gradient[i], 1e-4f * aovs.depth[i]), aovs.surface_id[i]};
+  const size_t n = noisy.size();
+  for (auto* p : {&plane_nx_, &plane_ny_, &plane_nz_, &plane_z_, &plane_ipz_, &plane_r_, &plane_g_, &plane_b_, &plane_var_, &plane_l_})
+    p->resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Geometry& g = geometry_[i];
+    plane_nx_[i] = g.n.x, plane_ny_[i] = g.n.y, plane_nz_[i] = g.n.z, plane_z_[i] = g.z;
+    plane_ipz_[i] = g.id == kNoSurface ? 0.0f : 1 / (o_.sigma_z * g.dz);
+  }
   std::swap(previous_length_, history_length_);
   demodulate_and_accumulate(noisy, aovs);
   estimate_variance();
