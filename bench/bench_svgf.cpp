@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
   const double di_ms = bench::median(di, 1), svgf_ms = bench::median(svgf, 1), aov_ms = bench::median(aovs, 1);
   fmt::print("{} at {}x{}, restir-di 1 spp, {} frames (median of frames 2-{})\n", scene_path, width, height, frames, frames);
   fmt::print("restir-di frame {:.1f} ms, svgf {:.1f} ms, aov pass {:.1f} ms\n", di_ms, svgf_ms, aov_ms);
+  std::string each;
+  for (double d : svgf) each += fmt::format(" {:.0f}", d);
+  fmt::print("svgf ms by frame:{}   (frames 0-2 add the 7x7 variance estimate of pixels with < 4 frames of history)\n", each);
   fmt::print("svgf / restir-di frame: {:.3f}   (svgf + aov pass) / restir-di frame: {:.3f}\n", svgf_ms / di_ms,
              (svgf_ms + aov_ms) / di_ms);
   return 0;

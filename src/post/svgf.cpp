@@ -73,6 +73,14 @@ struct TapRow {
 struct SumRow {
   float *__restrict r, *__restrict g, *__restrict b, *__restrict var, *__restrict w;
 };
+// One tap of the 3x3 Gaussian over n pixels of a row: sum += k var, weight += k.
+inline void gaussian_tap(const float* __restrict var, float* __restrict sum, float* __restrict weight, int n, float k) {
+  for (int x = 0; x < n; ++x) {
+    sum[x] += k * var[x];
+    weight[x] += k;
+  }
+}
+
 template <int K>
 void atrous_taps(CentreRow c, TapRow q, SumRow s, int n, float k, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
@@ -190,20 +198,22 @@ void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vecto
   constexpr float kH[3] = {1.0f, 2.0f / 3.0f, 1.0f / 6.0f};
   const int w = width_;
   const size_t row = size_t(y) * size_t(w);
-  std::vector<float> acc(size_t(w) * 6);
-  float *sr = acc.data(), *sg = sr + w, *sb = sg + w, *sv = sb + w, *sw = sv + w, *ipl = sw + w;
-  for (int x = 0; x < w; ++x) {  // the variance after a 3x3 Gaussian (1/4, 1/8, 1/16) steers eq. 5
-    float var = 0, gw = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int qx = x + dx, qy = y + dy;
-        if (qx < 0 || qy < 0 || qx >= w || qy >= height_) continue;
-        const float k = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
-        var += in[size_t(qy) * size_t(w) + size_t(qx)].var * k;
-        gw += k;
-      }
-    ipl[x] = 1 / (o_.sigma_l * std::sqrt(std::max(var / gw, 0.0f)) + 1e-10f);
-    sr[x] = plane_r_[row + x], sg[x] = plane_g_[row + x], sb[x] = plane_b_[row + x], sv[x] = in[row + x].var, sw[x] = 1;
+  std::vector<float> acc(size_t(w) * 8);
+  float *sr = acc.data(), *sg = sr + w, *sb = sg + w, *sv = sb + w, *sw = sv + w, *ipl = sw + w, *gv = ipl + w, *gw = gv + w;
+  // The variance after a 3x3 Gaussian (1/4, 1/8, 1/16) steers eq. 5's luminance weight (sec. 4.3),
+  // renormalised where the 3x3 leaves the image; tap by tap over the row, as the a-trous taps.
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int qy = y + dy;
+    if (qy < 0 || qy >= height_) continue;
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int x0 = std::max(0, -dx), x1 = std::min(w, w - dx);
+      const float k = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
+      gaussian_tap(plane_var_.data() + size_t(qy) * size_t(w) + size_t(dx + x0), gv + x0, gw + x0, x1 - x0, k);
+    }
+  }
+  for (int x = 0; x < w; ++x) {
+    ipl[x] = 1 / (o_.sigma_l * std::sqrt(std::max(gv[x] / gw[x], 0.0f)) + 1e-10f);
+    sr[x] = plane_r_[row + x], sg[x] = plane_g_[row + x], sb[x] = plane_b_[row + x], sv[x] = plane_var_[row + x], sw[x] = 1;
   }
   const float *cx = plane_nx_.data() + row, *cy = plane_ny_.data() + row, *cz = plane_nz_.data() + row;
   const float *cd = plane_z_.data() + row, *cl = plane_l_.data() + row, *ipz = plane_ipz_.data() + row;
@@ -213,14 +223,14 @@ void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vecto
     for (int dx = -2; dx <= 2; ++dx) {
       if (dx == 0 && dy == 0) continue;
       const int off = dx * step, x0 = std::max(0, -off), x1 = std::min(w, w - off);
-      const size_t q = size_t(qy) * size_t(w) + size_t(off);  // + x: the tap of pixel x (x0 <= x < x1)
+      const size_t q = size_t(qy) * size_t(w) + size_t(off + x0);  // the tap of pixel x0 (off + x0 >= 0)
       const float *qx_ = plane_nx_.data() + q, *qy_ = plane_ny_.data() + q, *qz = plane_nz_.data() + q;
       const float *qd = plane_z_.data() + q, *ql = plane_l_.data() + q, *qv = plane_var_.data() + q;
       const float *qr = plane_r_.data() + q, *qg = plane_g_.data() + q, *qb = plane_b_.data() + q;
       const float k = kH[std::abs(dx)] * kH[std::abs(dy)];
       const float inv_dist = 1 / (float(step) * std::sqrt(float(dx * dx + dy * dy)));
       atrous_taps<K>({cx + x0, cy + x0, cz + x0, cd + x0, cl + x0, ipz + x0, ipl + x0},
-                     {qx_ + x0, qy_ + x0, qz + x0, qd + x0, ql + x0, qv + x0, qr + x0, qg + x0, qb + x0},
+                     {qx_, qy_, qz, qd, ql, qv, qr, qg, qb},
                      {sr + x0, sg + x0, sb + x0, sv + x0, sw + x0}, x1 - x0, k, inv_dist, o_.sigma_n);
     }
   }
