@@ -6,6 +6,7 @@
 
 #include "denoise_scene.h"
 #include "frame/render.h"
+#include "image/image_io.h"
 #include "image/metrics.h"
 #include "post/svgf.h"
 #include "test_helpers.h"
@@ -149,6 +150,24 @@ TEST_SUITE("svgf") {
       else CHECK(res.denoised.pixels == first.pixels);
       CHECK(res.last.pixels != res.denoised.pixels);  // the raw frame stays raw
     }
+  }
+
+  TEST_CASE("restir render writes the denoised frame with denoise.method=svgf and refuses a method it lacks") {
+    const auto dir = fresh_temp_dir("svgf-cli");
+    const std::string base = "render " + own_scene("cornell-box.pbrt") + " --res 32x24 --spp 1 --frames 3 -q ";
+    const CommandResult ok = run_restir(base + "--set denoise.method=svgf -o " + (dir / "d.exr").string() + " --frame-dir " +
+                                        (dir / "frames").string() + " --timings " + (dir / "t.csv").string());
+    REQUIRE_MESSAGE(ok.status == 0, ok.output);
+    const CommandResult raw = run_restir(base + "-o " + (dir / "r.exr").string());
+    REQUIRE_MESSAGE(raw.status == 0, raw.output);
+    const Image d = read_image((dir / "d.exr").string()), r = read_image((dir / "r.exr").string());
+    CHECK(d.pixels != r.pixels);
+    CHECK(read_image((dir / "frames" / "frame_0002.exr").string()).pixels == d.pixels);
+    CHECK(read_file(dir / "t.csv").find("denoise_ms") != std::string::npos);
+    const CommandResult bad = run_restir(base + "--set denoise.method=oidn -o " + (dir / "x.exr").string());
+    CHECK(bad.status == 1);
+    CHECK(bad.output.find("error:") != std::string::npos);
+    CHECK(bad.output.find("denoise.method") != std::string::npos);
   }
 
   TEST_CASE("denoise options: methods that exist, every integrator reads them, a bad one is an error") {
