@@ -35,7 +35,7 @@ enum class HistoryScene { previous, current };
 enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
 // The post-process stage over each finished frame (src/post/, docs/denoise.md). Only methods that
 // are implemented are listed: a value that would do nothing is refused by the parser.
-enum class DenoiseMethod { none, svgf };
+enum class DenoiseMethod { none, svgf, asvgf };
 
 template <> struct EnumNames<SamplePattern> {
   static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
@@ -60,8 +60,8 @@ template <> struct EnumNames<DebugView> {
        {DebugView::rejected_shifts, "rejected-shifts"}, {DebugView::reconnection_depth, "reconnection-depth"}}};
 };
 template <> struct EnumNames<DenoiseMethod> {
-  static constexpr std::array<std::pair<DenoiseMethod, const char*>, 2> values{
-      {{DenoiseMethod::none, "none"}, {DenoiseMethod::svgf, "svgf"}}};
+  static constexpr std::array<std::pair<DenoiseMethod, const char*>, 3> values{
+      {{DenoiseMethod::none, "none"}, {DenoiseMethod::svgf, "svgf"}, {DenoiseMethod::asvgf, "asvgf"}}};
 };
 template <> struct EnumNames<GiTarget> {
   static constexpr std::array<std::pair<GiTarget, const char*>, 2> values{
@@ -292,8 +292,9 @@ void visit_options(O& o, V& v) {
   v("ssr.resolve_radius", o.ssr.resolve_radius, "radius in pixels of the resolve's neighbourhood", Range{0, 256});
   v("ssr.temporal", o.ssr.temporal, "accumulate the reflective pixels over frames: reproject into the previous frame and blend (exponential average; history rejected where depth or normal changed)");
   v("ssr.temporal_alpha", o.ssr.temporal_alpha, "ssr.temporal: weight of the new frame in the running average (1 = no history)", Range{1e-3, 1});
-  v("denoise.method", o.denoise.method, "post-process each frame after the integrator: none, or svgf (Schied et al. 2017; "
-    "-o, --png and --frame-dir then write the denoised frame, --average the raw mean; docs/denoise.md)");
+  v("denoise.method", o.denoise.method, "post-process each frame after the integrator: none, svgf (Schied et al. 2017) or asvgf (SVGF "
+    "with temporal gradients, Schied et al. 2018; pt only: it re-renders the previous frame's samples); -o, --png "
+    "and --frame-dir then write the denoised frame, --average the raw mean; docs/denoise.md");
   v("denoise.atrous_iterations", o.denoise.atrous_iterations, "svgf: a-trous wavelet iterations (step 2^i pixels)", Range{1, 10});
   v("denoise.sigma_z", o.denoise.sigma_z, "svgf: depth edge-stopping (Schied 2017 eq. 3; larger = blur across depth changes)", Range{1e-6, 1e6});
   v("denoise.sigma_n", o.denoise.sigma_n, "svgf: normal edge-stopping exponent (eq. 4; larger = sharper at creases)", Range{0, 1e6});

@@ -98,6 +98,15 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
   denoiser_ = make_denoiser(o_);
+  check_denoiser();
+}
+
+// A denoiser that needs re-shaded samples (A-SVGF) runs only after an integrator that gives them.
+void FrameRenderer::check_denoiser() const {
+  if (denoiser_ && denoiser_->wants_reshade() && !integrator_->reshades_previous())
+    throw OptionError(fmt::format("denoise.method = {}: needs an integrator that re-shades the previous frame's samples "
+                                  "(pt); {} keeps state between frames (use denoise.method = svgf)",
+                                  enum_name(o_.denoise.method), o_.integrator));
 }
 
 RenderContext FrameRenderer::context() const {
@@ -122,6 +131,7 @@ void FrameRenderer::reset(const Options& o) {
   if (new_lights) lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
   denoiser_ = make_denoiser(o_);
+  check_denoiser();
   denoised_ = Image();
   previous_.reset();
   frame_ = 0;
@@ -204,6 +214,19 @@ void FrameRenderer::post_process(const PerspectiveCamera& cam, const Image& raw,
     build_aovs(context(), cam, previous_ ? &*previous_ : nullptr, frame_, aovs_);
   }
   if (!denoiser_) return;
+  if (denoiser_->wants_reshade() && previous_) {
+    // A-SVGF: the previous frame's samples (its camera, its frame index: its random streams)
+    // shaded in this frame's scene.
+    StageTimer timer(stages, "reshade");
+    FrameInfo info;
+    info.index = frame_ - 1;
+    info.count = frame_;
+    info.camera = &*previous_;
+    if (reshaded_.width != raw.width || reshaded_.height != raw.height) reshaded_ = Image(raw.width, raw.height);
+    else std::fill(reshaded_.pixels.begin(), reshaded_.pixels.end(), Rgb(0));
+    integrator_->render_frame(info, reshaded_);
+    denoiser_->set_reshaded_previous(reshaded_);
+  }
   StageTimer timer(stages, "denoise");
   denoiser_->denoise(raw, aovs_, denoised_);
 }

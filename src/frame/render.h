@@ -93,6 +93,7 @@ class FrameRenderer {
  private:
   RenderContext context() const;
   void post_process(const PerspectiveCamera& cam, const Image& raw, StageTimes* stages);
+  void check_denoiser() const;
   const Scene& rest_;  // the scene as loaded (the rest pose of an animated scene)
   // An animated scene's current frame (animate_scene), which the BVH, the lights and the
   // integrator see; the loaded scene itself when nothing is animated.
@@ -114,6 +115,7 @@ class FrameRenderer {
   bool aovs_requested_ = false;
   Aovs aovs_;
   Image denoised_;
+  Image reshaded_;  // A-SVGF: the previous frame's samples shaded in this frame
   std::optional<PerspectiveCamera> previous_;
   int frame_ = 0;
   int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction

@@ -1,5 +1,6 @@
 // The post-process stage's one switch (frame/denoiser.h): denoise.method -> a Denoiser.
 #include "frame/denoiser.h"
+#include "post/asvgf.h"
 #include "post/svgf.h"
 
 namespace rl {
@@ -10,6 +11,8 @@ std::unique_ptr<Denoiser> make_denoiser(const Options& o) {
       return nullptr;
     case DenoiseMethod::svgf:
       return std::make_unique<Svgf>(o.denoise);
+    case DenoiseMethod::asvgf:
+      return std::make_unique<Asvgf>(o.denoise);
   }
   return nullptr;
 }

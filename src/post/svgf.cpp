@@ -167,7 +167,11 @@ void Svgf::demodulate_and_accumulate(const Image& noisy, const Aovs& aovs) {
     const bool kept = reproject(aovs, x, y, prev_c, prev_m, len);
     len = kept ? std::min(len + 1, kMaxHistory) : 1;
     // alpha = max(alpha, 1 / n): a plain mean until the history is 1 / alpha frames long.
-    const float a = kept ? std::max(o_.alpha, 1 / len) : 1, am = kept ? std::max(o_.moments_alpha, 1 / len) : 1;
+    float a = kept ? std::max(o_.alpha, 1 / len) : 1, am = kept ? std::max(o_.moments_alpha, 1 / len) : 1;
+    if (!lambda_.empty()) {  // A-SVGF: the temporal gradient shortens the history where the lighting changed
+      a = (1 - lambda_[i]) * a + lambda_[i];
+      am = (1 - lambda_[i]) * am + lambda_[i];
+    }
     const Rgb c = kept ? prev_c + (illum - prev_c) * a : illum;
     const Vec2 m = kept ? Vec2{prev_m.x + (l - prev_m.x) * am, prev_m.y + (l * l - prev_m.y) * am} : Vec2{l, l * l};
     ping_[i] = {c, std::max(0.0f, m.y - m.x * m.x)};

@@ -30,6 +30,9 @@ class Svgf : public Denoiser {
   // Each pixel's history length after the last frame, in frames including it (1 = history
   // dropped or first frame): what tests read to see reprojection keep or reject history.
   const std::vector<float>& history_length() const { return history_length_; }
+  // A-SVGF (src/post/asvgf.h): per pixel, lambda in [0, 1] lifts the next frame's temporal
+  // weights to (1 - lambda) alpha + lambda (Schied et al. 2018, eq. 9); empty: none.
+  void set_temporal_lambda(std::vector<float> lambda) { lambda_ = std::move(lambda); }
 
   // Demodulated illumination and its variance: what the a-trous passes filter.
   struct Sample {
@@ -71,6 +74,7 @@ class Svgf : public Denoiser {
   std::vector<Vec2> history_moments_, moments_;
   std::vector<float> history_length_, previous_length_;
   std::vector<Sample> ping_, pong_;
+  std::vector<float> lambda_;
 };
 
 }  // namespace rl

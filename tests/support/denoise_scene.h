@@ -18,9 +18,23 @@ namespace rl::test {
 inline constexpr int kCardWidth = 64, kCardHeight = 48;
 inline constexpr float kCardZ = 3, kBackgroundZ = 10, kCardFov = 60;
 
-inline Scene card_scene() {
+// blink: a second, brighter light (left of the camera) that is on for frames 0-5 and off from
+// frame 6 (a step animation), for the temporal-gradient tests of A-SVGF; off: that light absent
+// (the blinking scene's state from frame 6 on, for its reference).
+enum class CardLight { steady, blink, off };
+inline Scene card_scene(CardLight extra = CardLight::steady) {
   const auto dir = fresh_temp_dir("card-scene");
   const std::string path = (dir / "card.pbrt").string();
+  std::string blink;
+  if (extra == CardLight::blink) {
+    std::ofstream(dir / "blink.json") << R"({"interpolation": "step", "keys": [{"frame": 0, "intensity": 1}, {"frame": 6, "intensity": 0}]})";
+    blink = R"(AttributeBegin
+  Attribute "shape" "string animation" "blink.json"
+  AreaLightSource "diffuse" "rgb L" [12 12 12] "bool twosided" true
+  Shape "trianglemesh" "point3 P" [-4.5 -2 -0.5  -0.5 -2 -0.5  -0.5 2 -0.5  -4.5 2 -0.5] "integer indices" [0 1 2 0 2 3]
+AttributeEnd
+)";
+  }
   std::ofstream(path) << R"(LookAt 0 0 0  0 0 1  0 1 0
 Camera "perspective" "float fov" 60
 Film "rgb" "integer xresolution" 64 "integer yresolution" 48
@@ -29,7 +43,7 @@ AttributeBegin
   AreaLightSource "diffuse" "rgb L" [3 3 3] "bool twosided" true
   Shape "trianglemesh" "point3 P" [0.5 -2 -0.5  4.5 -2 -0.5  4.5 2 -0.5  0.5 2 -0.5] "integer indices" [0 1 2 0 2 3]
 AttributeEnd
-Material "diffuse" "rgb reflectance" [0.6 0.5 0.4]
+)" + blink + R"(Material "diffuse" "rgb reflectance" [0.6 0.5 0.4]
 Shape "trianglemesh" "point3 P" [-20 -20 3  0 -20 3  0 20 3  -20 20 3] "integer indices" [0 1 2 0 2 3]
 Material "diffuse" "rgb reflectance" [0.3 0.5 0.7]
 Shape "trianglemesh" "point3 P" [-100 -100 10  100 -100 10  100 100 10  -100 100 10] "integer indices" [0 1 2 0 2 3]
