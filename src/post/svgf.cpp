@@ -38,29 +38,6 @@ inline float exp_neg(float e) {
   return p * std::bit_cast<float>((n + 127) << 23);
 }
 
-// max(0, n.n')^sigma_n (eq. 4): by squaring where sigma_n is a whole number (the default 128: seven
-// multiplications), else through the logarithm.
-inline float normal_weight(float nd, float sigma_n, int whole) {
-  if (nd <= 0) return 0;
-  if (whole < 0) return std::exp(sigma_n * std::log(nd));
-  float r = 1, b = nd;
-  for (int k = whole; k > 0; k >>= 1, b *= b)
-    if (k & 1) r *= b;
-  return r;
-}
-
-// Schied 2017 eq. 3-5, multiplied. inv_phi_z = 1 / (sigma_z dz |p - q|) (eq. 3's
-// |grad z . (p - q)|, with dz the centre's largest derivative); inv_phi_l = 1 / (sigma_l
-// sqrt(g(var)) + eps). A pixel without a surface has normal 0: weight 0. The exponential only
-// where it is not negligible (e^-40).
-inline float edge_weight(const Svgf::Geometry& c, const Svgf::Geometry& q, float inv_phi_z, float l, float lq,
-                         float inv_phi_l, float sigma_n, int whole) {
-  const float wn = normal_weight(dot(c.n, q.n), sigma_n, whole);
-  if (wn == 0) return 0;
-  const float e = std::fabs(c.z - q.z) * inv_phi_z + std::fabs(l - lq) * inv_phi_l;
-  return e > 40 ? 0.0f : wn * exp_neg(e);
-}
-
 // One tap of an a-trous row for n pixels: the centres c, their taps q, the sums s. Separate arrays
 // the compiler is told do not alias (__restrict), so that it vectorises the loop without
 // run-time overlap checks (it gives up above ten of them).
@@ -82,6 +59,11 @@ inline void gaussian_tap(const float* __restrict var, float* __restrict sum, flo
   }
 }
 
+// Schied 2017 eq. 3-5, multiplied, times the B3 kernel k: w = k max(0, n.n')^sigma_n
+// exp(-|z - z'| / (sigma_z dz |p - q|) - |l - l'| / (sigma_l sqrt(g(var)) + eps)) (eq. 3's
+// |grad z . (p - q)| as the centre's largest derivative dz times the tap distance; ipz =
+// 1 / (sigma_z dz), 0 without a surface; ipl = the luminance denominator's inverse); 0 where the
+// exponent passes 40. K: sigma_n = 2^K by K squarings; K < 0: std::pow (not vectorised).
 template <int K>
 inline void atrous_taps(CentreRow c, TapRow q, SumRow s, int n, float k, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
@@ -114,6 +96,45 @@ RL_WIDEST void atrous_taps_pow2(CentreRow c, TapRow q, SumRow s, int n, float k,
     case 8: return atrous_taps<8>(c, q, s, n, k, inv_dist, 256);
     case 9: return atrous_taps<9>(c, q, s, n, k, inv_dist, 512);
     default: return atrous_taps<10>(c, q, s, n, k, inv_dist, 1024);
+  }
+}
+
+// One tap of the 7x7 moments estimate for n pixels (weights as atrous_taps, no kernel): the
+// colour, the two moments and the weight summed.
+struct MomentRow {
+  const float *__restrict nx, *__restrict ny, *__restrict nz, *__restrict z, *__restrict l, *__restrict m1,
+      *__restrict m2, *__restrict r, *__restrict g, *__restrict b;
+};
+template <int K>
+inline void moment_taps(CentreRow c, MomentRow q, SumRow s, float* __restrict m2, int n, float inv_dist, float sigma_n) {
+  for (int x = 0; x < n; ++x) {
+    const float nd = c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x];
+    float wn = nd > 0 ? nd : 0.0f;
+    if constexpr (K >= 0)
+      for (int t = 0; t < K; ++t) wn *= wn;
+    else
+      wn = wn > 0 ? std::pow(wn, sigma_n) : 0.0f;
+    const float e = std::fabs(c.z[x] - q.z[x]) * (c.ipz[x] * inv_dist) + std::fabs(c.l[x] - q.l[x]) * c.ipl[x];
+    const float wt = e > 40 ? 0.0f : wn * exp_neg(std::min(e, 40.0f));
+    s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
+    s.var[x] += wt * q.m1[x];  // (the first moment's sum)
+    m2[x] += wt * q.m2[x];
+    s.w[x] += wt;
+  }
+}
+RL_WIDEST void moment_taps_pow2(CentreRow c, MomentRow q, SumRow s, float* m2, int n, float inv_dist, int squarings) {
+  switch (squarings) {
+    case 0: return moment_taps<0>(c, q, s, m2, n, inv_dist, 1);
+    case 1: return moment_taps<1>(c, q, s, m2, n, inv_dist, 2);
+    case 2: return moment_taps<2>(c, q, s, m2, n, inv_dist, 4);
+    case 3: return moment_taps<3>(c, q, s, m2, n, inv_dist, 8);
+    case 4: return moment_taps<4>(c, q, s, m2, n, inv_dist, 16);
+    case 5: return moment_taps<5>(c, q, s, m2, n, inv_dist, 32);
+    case 6: return moment_taps<6>(c, q, s, m2, n, inv_dist, 64);
+    case 7: return moment_taps<7>(c, q, s, m2, n, inv_dist, 128);
+    case 8: return moment_taps<8>(c, q, s, m2, n, inv_dist, 256);
+    case 9: return moment_taps<9>(c, q, s, m2, n, inv_dist, 512);
+    default: return moment_taps<10>(c, q, s, m2, n, inv_dist, 1024);
   }
 }
 
@@ -182,33 +203,59 @@ void Svgf::demodulate_and_accumulate(const Image& noisy, const Aovs& aovs) {
 
 // Step 3: where the history is shorter than 4 frames, the variance from the moments of a 7x7
 // neighbourhood on the same surface (Schied 2017 sec. 4.2; weights as Falcor's
-// SVGFFilterMoments: depth and normal as in the a-trous pass, luminance with sigma_l alone).
+// SVGFFilterMoments: depth and normal as in the a-trous pass, luminance with sigma_l alone, no
+// kernel), a row at a time as the a-trous passes. Skipped when every pixel has 4 frames.
 void Svgf::estimate_variance() {
-  parallel_for_pixels(width_, height_, [&](int x, int y) {
-    const size_t i = size_t(y) * size_t(width_) + size_t(x);
-    pong_[i] = ping_[i];
-    const float h = history_length_[i];
-    if (geometry_[i].id == kNoSurface || h >= kMinHistoryForTemporalVariance) return;
-    const float l = luminance(ping_[i].c);
-    float sw = 0;
-    Vec2 m{0, 0};
-    Rgb c(0);
-    for (int dy = -3; dy <= 3; ++dy)
-      for (int dx = -3; dx <= 3; ++dx) {
-        const int qx = x + dx, qy = y + dy;
-        if (qx < 0 || qy < 0 || qx >= width_ || qy >= height_) continue;
-        const size_t j = size_t(qy) * size_t(width_) + size_t(qx);
-        const float inv_phi_z = 1 / (o_.sigma_z * geometry_[i].dz * std::max(1.0f, std::sqrt(float(dx * dx + dy * dy))));
-        const float w = j == i ? 1 : edge_weight(geometry_[i], geometry_[j], inv_phi_z, l, luminance(ping_[j].c), 1 / o_.sigma_l, o_.sigma_n, whole_n_);
-        sw += w;
-        m = {m.x + moments_[j].x * w, m.y + moments_[j].y * w};
-        c += ping_[j].c * w;
-      }
-    m = {m.x / sw, m.y / sw};
-    // Falcor: the spatial estimate boosted by 4 / h in the first frames, where it is least reliable.
-    pong_[i] = {c / sw, std::max(0.0f, m.y - m.x * m.x) * 4 / std::max(h, 1.0f)};
-  });
+  bool any = false;
+  for (size_t i = 0; i < ping_.size() && !any; ++i) any = geometry_[i].id != kNoSurface && history_length_[i] < kMinHistoryForTemporalVariance;
+  if (!any) return;
+  for (size_t i = 0; i < ping_.size(); ++i) {
+    plane_r_[i] = ping_[i].c.x, plane_g_[i] = ping_[i].c.y, plane_b_[i] = ping_[i].c.z, plane_l_[i] = luminance(ping_[i].c);
+    plane_var_[i] = moments_[i].x, plane_m2_[i] = moments_[i].y;  // (plane_var_ holds the first moment here)
+  }
+  parallel_for(height_, [&](int y) { moments_row(y); });
   std::swap(ping_, pong_);
+}
+
+void Svgf::moments_row(int y) {
+  const int w = width_;
+  const size_t row = size_t(y) * size_t(w);
+  std::vector<float> acc(size_t(w) * 7);
+  float *sr = acc.data(), *sg = sr + w, *sb = sg + w, *s1 = sb + w, *s2 = s1 + w, *sw = s2 + w, *ipl = sw + w;
+  for (int x = 0; x < w; ++x) {  // the centre, weight 1
+    const size_t i = row + size_t(x);
+    sr[x] = plane_r_[i], sg[x] = plane_g_[i], sb[x] = plane_b_[i], s1[x] = plane_var_[i], s2[x] = plane_m2_[i], sw[x] = 1;
+    ipl[x] = 1 / o_.sigma_l;
+  }
+  const CentreRow c{plane_nx_.data() + row, plane_ny_.data() + row, plane_nz_.data() + row, plane_z_.data() + row,
+                    plane_l_.data() + row, plane_ipz_.data() + row, ipl};
+  for (int dy = -3; dy <= 3; ++dy) {
+    const int qy = y + dy;
+    if (qy < 0 || qy >= height_) continue;
+    for (int dx = -3; dx <= 3; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      const int x0 = std::max(0, -dx), x1 = std::min(w, w - dx);
+      const size_t q = size_t(qy) * size_t(w) + size_t(dx + x0);
+      const MomentRow m{plane_nx_.data() + q, plane_ny_.data() + q, plane_nz_.data() + q, plane_z_.data() + q, plane_l_.data() + q,
+                        plane_var_.data() + q, plane_m2_.data() + q, plane_r_.data() + q, plane_g_.data() + q, plane_b_.data() + q};
+      const CentreRow cx{c.nx + x0, c.ny + x0, c.nz + x0, c.z + x0, c.l + x0, c.ipz + x0, c.ipl + x0};
+      const SumRow sums{sr + x0, sg + x0, sb + x0, s1 + x0, sw + x0};
+      const float inv_dist = 1 / std::sqrt(float(dx * dx + dy * dy));
+      if (squarings_ >= 0) moment_taps_pow2(cx, m, sums, s2 + x0, x1 - x0, inv_dist, squarings_);
+      else moment_taps<-1>(cx, m, sums, s2 + x0, x1 - x0, inv_dist, o_.sigma_n);
+    }
+  }
+  for (int x = 0; x < w; ++x) {
+    const size_t i = row + size_t(x);
+    const float h = history_length_[i];
+    if (geometry_[i].id == kNoSurface || h >= kMinHistoryForTemporalVariance) {
+      pong_[i] = ping_[i];
+      continue;
+    }
+    const float m1 = s1[x] / sw[x], m2 = s2[x] / sw[x];
+    // Falcor: the spatial estimate boosted by 4 / h in the first frames, where it is least reliable.
+    pong_[i] = {Rgb(sr[x], sg[x], sb[x]) / sw[x], std::max(0.0f, m2 - m1 * m1) * 4 / std::max(h, 1.0f)};
+  }
 }
 
 // Step 4, one iteration (Schied 2017 eq. 1-2): 5x5 taps of the B3 spline (1/16, 1/4, 3/8, 1/4,
@@ -304,7 +351,7 @@ void Svgf::denoise(const Image& noisy, const Aovs& aovs, Image& out) {
   for (size_t i = 0; i < noisy.size(); ++i)
     geometry_[i] = {aovs.normal[i], aovs.depth[i], std::max(aovs.depth_gradient[i], 1e-4f * aovs.depth[i]), aovs.surface_id[i]};
   const size_t n = noisy.size();
-  for (auto* p : {&plane_nx_, &plane_ny_, &plane_nz_, &plane_z_, &plane_ipz_, &plane_r_, &plane_g_, &plane_b_, &plane_var_, &plane_l_})
+  for (auto* p : {&plane_nx_, &plane_ny_, &plane_nz_, &plane_z_, &plane_ipz_, &plane_r_, &plane_g_, &plane_b_, &plane_var_, &plane_l_, &plane_m2_})
     p->resize(n);
   for (size_t i = 0; i < n; ++i) {
     const Geometry& g = geometry_[i];

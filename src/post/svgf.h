@@ -24,8 +24,7 @@ namespace rl {
 class Svgf : public Denoiser {
  public:
   explicit Svgf(const DenoiseOptions& o)
-      : o_(o), whole_n_(o.sigma_n == std::floor(o.sigma_n) && o.sigma_n <= 4096 ? int(o.sigma_n) : -1),
-        squarings_(squarings(o.sigma_n)) {}
+      : o_(o), squarings_(squarings(o.sigma_n)) {}
   void denoise(const Image& noisy, const Aovs& aovs, Image& out) override;
   // Each pixel's history length after the last frame, in frames including it (1 = history
   // dropped or first frame): what tests read to see reprojection keep or reject history.
@@ -51,6 +50,7 @@ class Svgf : public Denoiser {
   void demodulate_and_accumulate(const Image& noisy, const Aovs& aovs);
   bool reproject(const Aovs& aovs, int x, int y, Rgb& color, Vec2& moments, float& length) const;
   void estimate_variance();
+  void moments_row(int y);
   void atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int step);
   template <int K>
   void atrous_row(int y, int step, const std::vector<Sample>& in, std::vector<Sample>& out) const;
@@ -62,11 +62,11 @@ class Svgf : public Denoiser {
   }
 
   DenoiseOptions o_;
-  int whole_n_;  // sigma_n as a whole number (the normal weight by squaring), else -1
-  int squarings_;
+  int squarings_;  // sigma_n = 2^squarings_ (the normal weight by squaring), else -1: std::pow
   // Planar copies for the vectorised a-trous rows: geometry once a frame (ipz = 1 / (sigma_z dz),
   // 0 without a surface), colour, variance and luminance once a pass.
-  std::vector<float> plane_nx_, plane_ny_, plane_nz_, plane_z_, plane_ipz_, plane_r_, plane_g_, plane_b_, plane_var_, plane_l_;
+  std::vector<float> plane_nx_, plane_ny_, plane_nz_, plane_z_, plane_ipz_, plane_r_, plane_g_, plane_b_, plane_var_, plane_l_,
+      plane_m2_;
   int width_ = 0, height_ = 0;
   std::vector<Geometry> geometry_, previous_geometry_;
   std::vector<Rgb> demod_;  // per pixel: what radiance was divided by (albedo, 1 where a channel is ~0)
