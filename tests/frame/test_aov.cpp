@@ -8,6 +8,7 @@
 #include <ImfInputFile.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "denoise_scene.h"
 #include "frame/aov.h"
@@ -90,6 +91,35 @@ TEST_SUITE("aov") {
       CHECK(std::fabs(moved.motion[b].y) < 1e-3f);
     }
     CHECK(card_shift(dx, kCardZ) == doctest::Approx(6.93).epsilon(1e-2));  // the closed form itself
+  }
+
+  TEST_CASE("an animated object's motion vectors follow its motion (GMotion), a still camera's stay 0") {
+    // The card moves +0.1 along x per frame (linear keys 0 -> 1 over 10 frames); the background stays.
+    const auto dir = fresh_temp_dir("aov-moving");
+    std::ofstream(dir / "move.json") << R"({"keys": [{"frame": 0, "translate": [0, 0, 0]}, {"frame": 10, "translate": [1, 0, 0]}]})";
+    std::ofstream(dir / "moving.pbrt") << R"(LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" 60
+Film "rgb" "integer xresolution" 64 "integer yresolution" 48
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+AttributeBegin
+  Attribute "shape" "string animation" "move.json"
+  Shape "trianglemesh" "point3 P" [-20 -20 3  0 -20 3  0 20 3  -20 20 3] "integer indices" [0 1 2 0 2 3]
+AttributeEnd
+Shape "trianglemesh" "point3 P" [-100 -100 10  100 -100 10  100 100 10  -100 100 10] "integer indices" [0 1 2 0 2 3]
+)";
+    const Scene scene = load_scene((dir / "moving.pbrt").string());
+    FrameRenderer r(scene, options_for(scene, {"render.spp=1", "path.max_depth=1"}));
+    r.request_aovs(true);
+    Image img;
+    for (int f = 0; f < 3; ++f) r.render_frame(card_camera(0), 10, img, nullptr);
+    const Aovs& a = r.aovs();
+    for (int y = 4; y < kCardHeight; y += 9) {
+      // The card was 0.1 further left one frame ago: its history lies card_shift(0.1, 3) pixels left.
+      CHECK(a.motion[a.index(kCardX, y)].x == doctest::Approx(-card_shift(0.1f, kCardZ)).epsilon(1e-3));
+      CHECK(std::fabs(a.motion[a.index(kCardX, y)].y) < 1e-3f);
+      CHECK(a.motion[a.index(kBackgroundX, y)].x == 0.0f);
+    }
   }
 
   TEST_CASE("restir render --aov-dir writes one multi-channel EXR per frame") {
