@@ -30,6 +30,7 @@ struct RenderArgs {
   std::vector<std::string> sets;
   bool quiet = false;
   std::string frame_format = "exr";  // --frame-dir: exr, png or both
+  std::string aov_dir;               // --aov-dir: DIR/aov_NNNN.exr, one multi-channel EXR per frame
   bool stats = false;                // --stats: per-stage summary on stdout
 };
 

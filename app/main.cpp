@@ -71,6 +71,7 @@ void add_render_command(CLI::App& app, Commands& c) {
   render->add_option("--frame-dir", ra.frame_dir, "write every frame as DIR/frame_NNNN.exr (and/or .png: --frame-format)");
   render->add_option("--frame-format", ra.frame_format, "--frame-dir's files: exr (linear), png (tone-mapped), or both")
       ->check(CLI::IsMember({"exr", "png", "both"}));
+  render->add_option("--aov-dir", ra.aov_dir, "write every frame's AOVs (albedo, normal, depth, motion, emission, surface id) as DIR/aov_NNNN.exr (docs/denoise.md)");
   render->add_option("--timings", ra.timings, "CSV of each frame's wall time and each stage's (primary, candidates, temporal, spatial, shading, ...)");
   render->add_flag("--stats", ra.stats, "print each stage's median ms per frame and share of the frame time after the render");
   render->add_option("--integrator", ra.integrator, "integrator name (= --set integrator=NAME)");

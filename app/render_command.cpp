@@ -41,6 +41,7 @@ std::string check_render_outputs(const RenderArgs& a, const Scene& scene, const 
   if (!a.average.empty()) outs.push_back({a.average, "--average", {".exr"}});
   if (!a.timings.empty()) outs.push_back({a.timings, "--timings", {".csv"}});
   if (!a.frame_dir.empty()) outs.push_back({a.frame_dir, "--frame-dir", {}, true});
+  if (!a.aov_dir.empty()) outs.push_back({a.aov_dir, "--aov-dir", {}, true});
   const std::string main_out = !a.out.empty() ? a.out : (!a.png.empty() ? a.png : a.average);
   std::string sidecar = main_out.empty() ? "" : replace_extension(main_out, ".json");
   if (!sidecar.empty()) outs.push_back({sidecar, "the JSON sidecar of " + main_out, {".json"}, false, true});
@@ -114,7 +115,7 @@ std::string stage_summary(const RenderResult& r) {
 }
 
 int run_render(const RenderArgs& a) {
-  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty())
+  if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty() && a.aov_dir.empty())
     throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
   Scene scene = load_scene(a.scene);
   Options o;
@@ -150,9 +151,9 @@ int run_render(const RenderArgs& a) {
   RenderHooks hooks;
   hooks.progress_bar = !a.quiet;
   const bool stderr_tty = isatty(STDERR_FILENO);
-  hooks.on_frame = [&](int f, const Image& img, double ms) {
-    // "\r\033[K" clears the progress bar, which only a terminal shows (render.cpp): not in a log.
-    if (!a.quiet && o.render.frames > 1) std::fprintf(stderr, "%sframe %d: %.1f ms\n", stderr_tty ? "\r\033[K" : "", f, ms);
+  // With a denoiser, the frames written are the denoised ones (--average stays the raw mean).
+  const bool denoised = o.denoise.method != DenoiseMethod::none;
+  auto write_frame = [&](int f, const Image& img) {
     if (!a.frame_dir.empty() && a.frame_format != "png") {
       auto m = meta;
       m.emplace_back("restir.frame", std::to_string(f));
@@ -161,9 +162,21 @@ int run_render(const RenderArgs& a) {
     // PNG frames, tone-mapped as --png is: what a video encoder takes (ffmpeg -i DIR/frame_%04d.png).
     if (!a.frame_dir.empty() && a.frame_format != "exr") write_png(fmt::format("{}/frame_{:04d}.png", a.frame_dir, f), tonemap(img, o.output));
   };
+  hooks.on_frame = [&](int f, const Image& img, double ms) {
+    // "\r\033[K" clears the progress bar, which only a terminal shows (render.cpp): not in a log.
+    if (!a.quiet && o.render.frames > 1) std::fprintf(stderr, "%sframe %d: %.1f ms\n", stderr_tty ? "\r\033[K" : "", f, ms);
+    if (!denoised) write_frame(f, img);
+  };
+  if (denoised) hooks.on_denoised = write_frame;
+  if (!a.aov_dir.empty())
+    hooks.on_aovs = [&](int f, const Aovs& aovs) {
+      auto m = meta;
+      m.emplace_back("restir.frame", std::to_string(f));
+      write_exr_channels(fmt::format("{}/aov_{:04d}.exr", a.aov_dir, f), aovs.width, aovs.height, aov_channels(aovs), m);
+    };
   RenderResult r = render(scene, o, hooks);
 
-  write_outputs(a.out, a.png, r.last, o, meta);
+  write_outputs(a.out, a.png, denoised ? r.denoised : r.last, o, meta);
   if (!a.average.empty()) write_exr(a.average, r.average, meta);
   if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r));
   if (a.stats) fmt::print("{}", stage_summary(r));

@@ -76,6 +76,10 @@ class Integrator {
   // True when render_frame wants FrameInfo::previous_scene / previous_accel (the renderer then
   // keeps a second, one-frame-old copy of an animated scene and its BVH: twice the animation cost).
   virtual bool needs_previous_scene() const { return false; }
+  // True when render_frame keeps no state between frames, so that rendering frame f-1's FrameInfo
+  // again in frame f's scene re-shades f-1's samples with their own random numbers: the temporal
+  // gradients of A-SVGF (Schied et al. 2018, sec. 4; src/post/asvgf.h).
+  virtual bool reshades_previous() const { return false; }
 };
 
 // One row of the registry (src/integrators/registry.cpp): an algorithm, the option groups it

@@ -223,6 +223,8 @@ void validate_options(const Options& o) {
     throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
                                   enum_name(o.render.backend)));
   check_paired_reuse(o);
+  if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)
+    throw OptionError(fmt::format("denoise.oidn_library is read only by denoise.method = oidn (not {})", enum_name(o.denoise.method)));
   check_option_groups(o);
 }
 

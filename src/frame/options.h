@@ -36,6 +36,9 @@ enum class HistoryScene { previous, current };
 enum class SpatialPairing { none, paired };
 // Debug views replace the radiance of ReSTIR integrators with a per-pixel diagnostic.
 enum class DebugView { none, confidence, reuse_source, rejected_shifts, reconnection_depth };
+// The post-process stage over each finished frame (src/post/, docs/denoise.md). Only methods that
+// are implemented are listed: a value that would do nothing is refused by the parser.
+enum class DenoiseMethod { none, svgf, asvgf, oidn };
 
 template <> struct EnumNames<SamplePattern> {
   static constexpr std::array<std::pair<SamplePattern, const char*>, 5> values{{{SamplePattern::center, "center"},
@@ -62,6 +65,10 @@ template <> struct EnumNames<DebugView> {
 template <> struct EnumNames<SpatialPairing> {
   static constexpr std::array<std::pair<SpatialPairing, const char*>, 2> values{
       {{SpatialPairing::none, "none"}, {SpatialPairing::paired, "paired"}}};
+};
+template <> struct EnumNames<DenoiseMethod> {
+  static constexpr std::array<std::pair<DenoiseMethod, const char*>, 4> values{
+      {{DenoiseMethod::none, "none"}, {DenoiseMethod::svgf, "svgf"}, {DenoiseMethod::asvgf, "asvgf"}, {DenoiseMethod::oidn, "oidn"}}};
 };
 template <> struct EnumNames<GiTarget> {
   static constexpr std::array<std::pair<GiTarget, const char*>, 2> values{
@@ -185,6 +192,21 @@ struct SsrOptions {
   float temporal_alpha = 0.1f;    // weight of the new frame in that running average
 };
 
+// The denoiser run after the integrator (never inside it): the raw frame stays what RenderResult
+// and the unbiasedness tests see. Defaults: Schied et al. 2017, "Spatiotemporal Variance-Guided
+// Filtering", HPG 2017, sec. 4 (alpha = 0.2 for colour and moments, sigma_z = 1, sigma_n = 128,
+// sigma_l = 4, five a-trous iterations).
+struct DenoiseOptions {
+  DenoiseMethod method = DenoiseMethod::none;
+  int atrous_iterations = 5;   // a-trous wavelet passes, step 2^i (Schied 2017, sec. 4.3)
+  float sigma_z = 1;           // depth edge-stopping, eq. 3's sigma_z
+  float sigma_n = 128;         // normal edge-stopping exponent, eq. 4's sigma_n
+  float sigma_l = 4;           // luminance edge-stopping, eq. 5's sigma_l
+  float alpha = 0.2f;          // colour history blend, sec. 4.1
+  float moments_alpha = 0.2f;  // luminance moments history blend, sec. 4.2
+  std::string oidn_library;    // oidn: libOpenImageDenoise.so to load (empty: $RESTIR_OIDN_LIBRARY, else the system's)
+};
+
 struct Options {
   std::string integrator = "pt";
   FilmOptions film;
@@ -194,6 +216,7 @@ struct Options {
   GiOptions gi;
   PtOptions pt;
   SsrOptions ssr;
+  DenoiseOptions denoise;
   OutputOptions output;
   // The keys set explicitly (set_option: the CLI, --config, a study's base and axes, the viewer's
   // panel), each once; not an option itself. Values a scene file gives are not explicit, nor is a
@@ -296,6 +319,18 @@ void visit_options(O& o, V& v) {
   v("ssr.resolve_radius", o.ssr.resolve_radius, "radius in pixels of the resolve's neighbourhood", Range{0, 256});
   v("ssr.temporal", o.ssr.temporal, "accumulate the reflective pixels over frames: reproject into the previous frame and blend (exponential average; history rejected where depth or normal changed)");
   v("ssr.temporal_alpha", o.ssr.temporal_alpha, "ssr.temporal: weight of the new frame in the running average (1 = no history)", Range{1e-3, 1});
+  v("denoise.method", o.denoise.method, "post-process each frame after the integrator: none, svgf (Schied et al. 2017) or asvgf (SVGF "
+    "with temporal gradients, Schied et al. 2018; pt only: it re-renders the previous frame's samples) or oidn (Intel "
+    "Open Image Denoise 2, loaded at run time: denoise.oidn_library); -o, --png and --frame-dir then write the "
+    "denoised frame, --average the raw mean; docs/denoise.md");
+  v("denoise.atrous_iterations", o.denoise.atrous_iterations, "svgf: a-trous wavelet iterations (step 2^i pixels)", Range{1, 10});
+  v("denoise.sigma_z", o.denoise.sigma_z, "svgf: depth edge-stopping (Schied 2017 eq. 3; larger = blur across depth changes)", Range{1e-6, 1e6});
+  v("denoise.sigma_n", o.denoise.sigma_n, "svgf: normal edge-stopping exponent (eq. 4; larger = sharper at creases)", Range{0, 1e6});
+  v("denoise.sigma_l", o.denoise.sigma_l, "svgf: luminance edge-stopping in standard deviations (eq. 5)", Range{1e-6, 1e6});
+  v("denoise.alpha", o.denoise.alpha, "svgf: weight of the new frame in the colour history (1 = no temporal accumulation)", Range{1e-3, 1});
+  v("denoise.moments_alpha", o.denoise.moments_alpha, "svgf: weight of the new frame in the luminance-moments history", Range{1e-3, 1});
+  v("denoise.oidn_library", o.denoise.oidn_library, "oidn: the OIDN 2 libOpenImageDenoise.so to load, e.g. the pyoidn "
+    "wheel's pyoidn/oidn/lib/libOpenImageDenoise.so.2 (empty: $RESTIR_OIDN_LIBRARY, else the system's)");
   v("output.tonemap", o.output.tonemap, "tone mapper for PNG output");
   v("output.exposure", o.output.exposure, "exposure in stops applied before tone mapping", Range{-64, 64});
   v("output.white_point", o.output.white_point, "white point of modified Reinhard (luminance mapped to 1)", Range{1e-3, 1e6});

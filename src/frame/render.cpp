@@ -11,6 +11,7 @@
 
 #include "backends/cuda/cuda_queries.h"
 #include "core/parallel.h"
+#include "frame/denoiser.h"
 #include "frame/integrator.h"
 #include "backends/cpu/accel.h"
 #include "scene/camera.h"
@@ -96,6 +97,16 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   check_backend(o_.render.backend);
   lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
+  denoiser_ = make_denoiser(o_);
+  check_denoiser();
+}
+
+// A denoiser that needs re-shaded samples (A-SVGF) runs only after an integrator that gives them.
+void FrameRenderer::check_denoiser() const {
+  if (denoiser_ && denoiser_->wants_reshade() && !integrator_->reshades_previous())
+    throw OptionError(fmt::format("denoise.method = {}: needs an integrator that re-shades the previous frame's samples "
+                                  "(pt); {} keeps state between frames (use denoise.method = svgf)",
+                                  enum_name(o_.denoise.method), o_.integrator));
 }
 
 RenderContext FrameRenderer::context() const {
@@ -119,6 +130,9 @@ void FrameRenderer::reset(const Options& o) {
   }
   if (new_lights) lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
+  denoiser_ = make_denoiser(o_);
+  check_denoiser();
+  denoised_ = Image();
   previous_.reset();
   frame_ = 0;
 }
@@ -140,6 +154,7 @@ Options reference_options(const Options& defaults, const Options& o) {
   r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
   r.render.camera_path.clear();
   r.output = OutputOptions{};
+  r.denoise = DenoiseOptions{};  // a reference is the raw integral
   r.explicit_keys.clear();  // the reference is a configuration of its own: `o`'s keys were checked against o's integrator
   return r;
 }
@@ -182,11 +197,38 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
   if (out.width != o_.film.width || out.height != o_.film.height) out = Image(o_.film.width, o_.film.height);
   else std::fill(out.pixels.begin(), out.pixels.end(), Rgb(0));
   integrator_->render_frame(info, out);
-  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   check_finite(o_.integrator, frame_, out);
+  post_process(cam, out, stages);
+  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   previous_ = cam;
   ++frame_;
   return ms;
+}
+
+// After the integrator, never inside it: the AOVs (the renderer's own primary rays) and the
+// denoiser over the finished raw frame.
+void FrameRenderer::post_process(const PerspectiveCamera& cam, const Image& raw, StageTimes* stages) {
+  if (!aovs_requested_ && !denoiser_) return;
+  {
+    StageTimer timer(stages, "aovs");
+    build_aovs(context(), cam, previous_ ? &*previous_ : nullptr, frame_, aovs_);
+  }
+  if (!denoiser_) return;
+  if (denoiser_->wants_reshade() && previous_) {
+    // A-SVGF: the previous frame's samples (its camera, its frame index: its random streams)
+    // shaded in this frame's scene.
+    StageTimer timer(stages, "reshade");
+    FrameInfo info;
+    info.index = frame_ - 1;
+    info.count = frame_;
+    info.camera = &*previous_;
+    if (reshaded_.width != raw.width || reshaded_.height != raw.height) reshaded_ = Image(raw.width, raw.height);
+    else std::fill(reshaded_.pixels.begin(), reshaded_.pixels.end(), Rgb(0));
+    integrator_->render_frame(info, reshaded_);
+    denoiser_->set_reshaded_previous(reshaded_);
+  }
+  StageTimer timer(stages, "denoise");
+  denoiser_->denoise(raw, aovs_, denoised_);
 }
 
 void FrameRenderer::set_ray_log(RayLog* log) { accel_->set_ray_log(log); }
@@ -197,6 +239,7 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
   if (!o.render.camera_path.empty()) load_camera_path(o.render.camera_path, camera);
   if (camera.keys.empty()) camera.keys.push_back(CameraKey{});
   FrameRenderer renderer(scene, o, hooks.planted);
+  renderer.request_aovs(bool(hooks.on_aovs));
 
   RenderResult result;
   result.average = Image(o.film.width, o.film.height);
@@ -216,7 +259,12 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
     result.frame_stages.push_back(std::move(stages));
     accumulate_mean(result.average, img, f + 1);
     if (hooks.on_frame) hooks.on_frame(f, img, ms);
-    if (f + 1 == o.render.frames) result.last = std::move(img);
+    if (hooks.on_aovs) hooks.on_aovs(f, renderer.aovs());
+    if (hooks.on_denoised && !renderer.denoised().empty()) hooks.on_denoised(f, renderer.denoised());
+    if (f + 1 == o.render.frames) {
+      result.last = std::move(img);
+      result.denoised = renderer.denoised();
+    }
   }
   if (bar) std::fprintf(stderr, "\n");
   return result;

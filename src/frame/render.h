@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "frame/aov.h"
 #include "frame/options.h"
 #include "frame/planted_bias.h"
 #include "frame/stage_times.h"
@@ -20,6 +21,9 @@ struct RenderResult {
   Image average;                 // mean of all frames (converges for static scenes)
   std::vector<double> frame_ms;  // wall time of each frame
   std::vector<StageTimes> frame_stages;  // wall time of each frame's stages (stage_times.h)
+  // The last frame after the post-process stage (denoise.method); empty when it is none. `last` and
+  // `average` stay the integrator's raw frames.
+  Image denoised;
 };
 
 struct RenderHooks {
@@ -27,6 +31,10 @@ struct RenderHooks {
   std::function<void(int frame, const Image& image, double ms)> on_frame;
   bool progress_bar = false;     // draw a progress bar on stderr
   const PlantedBias* planted = nullptr;  // tests only (planted_bias.h)
+  // Called after each frame with its AOVs (frame/aov.h); when set, the renderer builds them.
+  std::function<void(int frame, const Aovs& aovs)> on_aovs;
+  // Called after each frame with its denoised image (only when denoise.method != none).
+  std::function<void(int frame, const Image& denoised)> on_denoised;
 };
 
 // Applies what the scene file says (Film resolution, pixel samples, max depth, pixel filter) as
@@ -46,6 +54,7 @@ class Lights;
 struct RenderContext;
 class Integrator;
 class ThreadLimit;
+class Denoiser;
 
 // One integrator kept alive across frames, with the scene's BVH and lights, so that ReSTIR's
 // temporal history carries from frame to frame. render() drives one over a sequence; the viewer
@@ -73,9 +82,18 @@ class FrameRenderer {
   void set_ray_log(RayLog* log);
   const Options& options() const { return o_; }
   int frames_rendered() const { return frame_; }
+  // Build the AOVs of every frame from now on, even without a denoiser (which needs them anyway).
+  void request_aovs(bool on) { aovs_requested_ = on; }
+  // The last frame's AOVs: empty (width 0) unless requested or denoise.method != none.
+  const Aovs& aovs() const { return aovs_; }
+  // The last frame after the post-process stage; empty when denoise.method = none. The frame that
+  // render_frame wrote into `out` stays the integrator's raw one.
+  const Image& denoised() const { return denoised_; }
 
  private:
   RenderContext context() const;
+  void post_process(const PerspectiveCamera& cam, const Image& raw, StageTimes* stages);
+  void check_denoiser() const;
   const Scene& rest_;  // the scene as loaded (the rest pose of an animated scene)
   // An animated scene's current frame (animate_scene), which the BVH, the lights and the
   // integrator see; the loaded scene itself when nothing is animated.
@@ -93,6 +111,11 @@ class FrameRenderer {
   int previous_shown_ = -1;  // the frame previous_scene_ shows
   std::unique_ptr<ThreadLimit> limit_;
   std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<Denoiser> denoiser_;  // the post-process stage (null: denoise.method = none)
+  bool aovs_requested_ = false;
+  Aovs aovs_;
+  Image denoised_;
+  Image reshaded_;  // A-SVGF: the previous frame's samples shaded in this frame
   std::optional<PerspectiveCamera> previous_;
   int frame_ = 0;
   int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction

@@ -222,13 +222,21 @@ Image read_image(const std::string& path) {
        fmt::format("unsupported extension '{}' (supported: .exr .png .jpg .jpeg .bmp .tga .hdr)", ext));
 }
 
-void write_exr(const std::string& path, const Image& img,
-               const std::vector<std::pair<std::string, std::string>>& metadata) {
-  const char* fn = "write_exr";
-  check_image_shape(fn, path, img);
-  Imf::Header header(img.width, img.height);
+namespace {
+// One slice per channel: (name, base pointer, x stride in bytes); y stride = width x-strides.
+struct ExrSlice {
+  std::string name;
+  const float* base;
+  size_t x_stride;
+};
+void write_exr_slices(const char* fn, const std::string& path, int width, int height, const std::vector<ExrSlice>& slices,
+                      const std::vector<std::pair<std::string, std::string>>& metadata) {
+  Imf::Header header(width, height);
   header.compression() = Imf::ZIP_COMPRESSION;  // lossless
-  for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  for (const ExrSlice& s : slices) {
+    if (s.name.empty() || header.channels().findChannel(s.name)) fail(fn, path, fmt::format("channel name '{}' is empty or duplicated", s.name));
+    header.channels().insert(s.name, Imf::Channel(Imf::FLOAT));
+  }
   for (const auto& [name, value] : metadata) {
     if (name.empty()) fail(fn, path, "metadata attribute with an empty name");
     if (header.find(name) != header.end())
@@ -244,16 +252,39 @@ void write_exr(const std::string& path, const Image& img,
       Imf::StdOFStream stream(os, tmp.c_str());
       Imf::OutputFile file(stream, header);
       Imf::FrameBuffer fb;
-      char* base = const_cast<char*>(reinterpret_cast<const char*>(img.pixels.data()));
-      for (int c = 0; c < 3; ++c)
-        fb.insert(c == 0 ? "R" : (c == 1 ? "G" : "B"),
-                  Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Rgb), sizeof(Rgb) * size_t(img.width)));
+      for (const ExrSlice& s : slices)
+        fb.insert(s.name, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(s.base)), s.x_stride,
+                                     s.x_stride * size_t(width)));
       file.setFrameBuffer(fb);
-      file.writePixels(img.height);
+      file.writePixels(height);
     }
     os.close();
     if (!os) throw ImageError(fmt::format("error writing temp file '{}'", tmp));
   });
+}
+}  // namespace
+
+void write_exr(const std::string& path, const Image& img,
+               const std::vector<std::pair<std::string, std::string>>& metadata) {
+  const char* fn = "write_exr";
+  check_image_shape(fn, path, img);
+  const float* base = reinterpret_cast<const float*>(img.pixels.data());
+  write_exr_slices(fn, path, img.width, img.height,
+                   {{"R", base, sizeof(Rgb)}, {"G", base + 1, sizeof(Rgb)}, {"B", base + 2, sizeof(Rgb)}}, metadata);
+}
+
+void write_exr_channels(const std::string& path, int width, int height,
+                        const std::vector<std::pair<std::string, std::vector<float>>>& channels,
+                        const std::vector<std::pair<std::string, std::string>>& metadata) {
+  const char* fn = "write_exr_channels";
+  if (width <= 0 || height <= 0 || channels.empty()) fail(fn, path, fmt::format("empty image ({}x{}, {} channels)", width, height, channels.size()));
+  std::vector<ExrSlice> slices;
+  for (const auto& [name, values] : channels) {
+    if (values.size() != size_t(width) * size_t(height))
+      fail(fn, path, fmt::format("channel '{}' has {} values, not {}x{}", name, values.size(), width, height));
+    slices.push_back({name, values.data(), sizeof(float)});
+  }
+  write_exr_slices(fn, path, width, height, slices, metadata);
 }
 
 std::vector<std::pair<std::string, std::string>> read_exr_metadata(const std::string& path) {

@@ -46,6 +46,13 @@ Image read_image(const std::string& path);
 void write_exr(const std::string& path, const Image& img,
                const std::vector<std::pair<std::string, std::string>>& metadata = {});
 
+// Writes named 32-bit float channels (each width x height values, row-major), e.g. AOV layers
+// "Albedo.R", "N.X", "Z": one multi-channel EXR as pbrt-v4 and Mitsuba write them. Metadata,
+// compression and atomicity as write_exr.
+void write_exr_channels(const std::string& path, int width, int height,
+                        const std::vector<std::pair<std::string, std::vector<float>>>& channels,
+                        const std::vector<std::pair<std::string, std::string>>& metadata = {});
+
 // The string attributes of an EXR header, in the header's (alphabetical) order. Attributes of
 // other types are skipped.
 std::vector<std::pair<std::string, std::string>> read_exr_metadata(const std::string& path);

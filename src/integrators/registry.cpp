@@ -88,8 +88,9 @@ void check_option_groups(const Options& o) {
     const size_t dot = key.find('.');
     if (dot == std::string::npos) continue;  // "integrator"
     const std::string group = key.substr(0, dot);
-    if (group == "film" || group == "render" || group == "output" || info.reads_group(group)) continue;
-    const std::string all = std::string(info.reads) + " film render output";
+    // denoise.*: the post-process stage after any integrator (src/post/).
+    if (group == "film" || group == "render" || group == "output" || group == "denoise" || info.reads_group(group)) continue;
+    const std::string all = std::string(info.reads) + " film render denoise output";
     std::string groups;
     for (std::string_view g : words(all))
       groups += (groups.empty() ? "" : ", ") + std::string(g) + ".*";

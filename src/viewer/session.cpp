@@ -491,7 +491,8 @@ void Session::view_turn(const Turn& t, const CameraKey& camera, const PathKey& p
   // A reference of another view must not be compared with this frame: re-aim it first.
   const bool reference_moved = t.reference_on && aim_reference(o, camera, renderer->frames_rendered() - 1);
   std::lock_guard lk(m_);
-  accum_.add(frame);  // under the lock: the UI copies what it shows straight from it
+  // With denoise.method set, the view (and its metrics) is the denoised frame (docs/denoise.md).
+  accum_.add(renderer->denoised().empty() ? frame : renderer->denoised());  // under the lock: the UI copies what it shows straight from it
   if (reference_moved) reference_restarted();
   view_frame_ = renderer->frames_rendered() - 1;
   view_ms_ += ms;

@@ -58,7 +58,7 @@ TEST_CASE("options: an explicitly set key the integrator does not read is an err
   set_option(o, "integrator", "restir-di");
   set_option(o, "pt.spatial_radius", "10");
   CHECK_THROWS_WITH_AS(validate_options(o),
-                       "option 'pt.spatial_radius' is not read by the integrator restir-di (it reads di.*, film.*, render.*, output.*): "
+                       "option 'pt.spatial_radius' is not read by the integrator restir-di (it reads di.*, film.*, render.*, denoise.*, output.*): "
                        "remove it, or set it only where the integrator reads it (a study axis value null leaves a key unset)",
                        OptionError);
   set_option(o, "integrator", "restir-pt");  // reads pt.* (and di.* for pt.direct = restir-di)

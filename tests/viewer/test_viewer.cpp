@@ -298,6 +298,34 @@ TEST_SUITE("viewer") {
     a.render_frame(key, 1, z, nullptr);  // the old integrator is still there
   }
 
+  TEST_CASE("headless session: with denoise.method set the view is the denoised frame") {
+    const fs::path dir = fs::temp_directory_path() / ("restir-viewer-denoise-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::vector<Image> shots;
+    for (const char* method : {"denoise.method=none", "denoise.method=svgf"}) {
+      ViewArgs args;
+      args.scene = own_scene("cornell-box.pbrt");
+      args.sets = {"film.width=24", "film.height=16", method};
+      Session session(args);
+      ViewState view;
+      const std::string base = (dir / (std::string(method).substr(15))).string();
+      ScriptRunner runner(parse_script("frames 1\nscreenshot " + base + "\n", "t.txt"), session, view);
+      session.render_frames(0);
+      session.start({});
+      auto shot = [&](const std::string& b) {
+        Image hdr;
+        FrameReadout r;
+        session.take_frame(view.accumulate, true, hdr, r);
+        session.screenshot(b, hdr, compose_view(view.mode, hdr, nullptr, session.options().output, view.split), r, "{}");
+      };
+      CHECK(run_headless(session, runner, shot).empty());
+      session.stop();
+      shots.push_back(read_image(base + ".exr"));
+    }
+    CHECK(shots[0].pixels != shots[1].pixels);  // the same seed and frame: only the denoiser differs
+    fs::remove_all(dir);
+  }
+
   TEST_CASE("headless session: a script renders, changes options and writes screenshots") {
     const fs::path dir = fs::temp_directory_path() / ("restir-viewer-session-" + std::to_string(::getpid()));
     fs::create_directories(dir);
