@@ -8,6 +8,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <chrono>
+#include <type_traits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,7 +31,18 @@ struct Settings {
   std::optional<std::string> integrator;
   std::optional<int> spp, frames, threads;
   std::optional<uint64_t> seed;
+  bool aovs = false;
 };
+
+// A copy of an AOV array (T: packed floats or uint32) as a numpy array that owns it.
+template <class T>
+nb::object owned_array(const std::vector<T>& v, std::initializer_list<size_t> shape) {
+  using Scalar = std::conditional_t<std::is_same_v<T, uint32_t>, uint32_t, float>;
+  static_assert(sizeof(T) % sizeof(Scalar) == 0);
+  auto* held = new std::vector<T>(v);
+  nb::capsule owner(held, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+  return nb::cast(nb::ndarray<nb::numpy, Scalar>(reinterpret_cast<Scalar*>(held->data()), shape.size(), shape.begin(), owner));
+}
 Options resolve_options(const Scene& scene, const Settings& s, nb::handle options, std::vector<std::string>& notes) {
   Options o;
   apply_scene_hints(o, scene.hints);
@@ -83,6 +95,7 @@ class PyRenderer {
     camera_ = camera_of(*scene_, o);
     nb::gil_scoped_release unlocked;  // the BVH build
     renderer_ = std::make_unique<FrameRenderer>(*scene_, o);
+    renderer_->request_aovs(s.aovs);
     // Allocated once: image() views stay valid as long as the renderer (the film size never changes).
     image_ = Image(o.film.width, o.film.height);
   }
@@ -133,6 +146,30 @@ class PyRenderer {
   }
   CameraKey camera_at(int frame) const { return camera_.at_frame(frame, renderer_->options().render.frames); }
 
+  // The last frame's AOVs (frame/aov.h) as arrays (copies: the renderer refills its own each frame).
+  nb::dict aovs() const {
+    const Aovs& a = renderer_->aovs();
+    if (a.width == 0)
+      throw std::runtime_error(renderer_->frames_rendered() == 0 ? "aovs(): no frame rendered yet"
+                                                                  : "aovs(): make the Renderer with aovs=True (or a denoise.method)");
+    const size_t h = size_t(a.height), w = size_t(a.width);
+    nb::dict d;
+    d["albedo"] = owned_array(a.albedo, {h, w, 3});
+    d["normal"] = owned_array(a.normal, {h, w, 3});
+    d["depth"] = owned_array(a.depth, {h, w});
+    d["depth_gradient"] = owned_array(a.depth_gradient, {h, w});
+    d["motion"] = owned_array(a.motion, {h, w, 2});
+    d["emission"] = owned_array(a.emission, {h, w, 3});
+    d["surface_id"] = owned_array(a.surface_id, {h, w});
+    return d;
+  }
+  // The last frame after denoise.method (a copy), or None when it is none.
+  nb::object denoised() const {
+    const Image& d = renderer_->denoised();
+    if (d.width == 0) return nb::none();
+    return nb::cast(image_array(Image(d)));
+  }
+
   Image image_;
   std::vector<std::string> notes_;
   double frame_ms_ = 0;
@@ -175,13 +212,13 @@ void bind_renderer(nb::module_& m) {
                          "`restir render --frames N` drives it.")
       .def("__init__", [](PyRenderer* self, std::shared_ptr<Scene> scene, std::optional<std::string> integrator,
                           std::optional<nb::dict> options, std::optional<int> spp, std::optional<int> frames,
-                          std::optional<uint64_t> seed, std::optional<int> threads) {
-            new (self) PyRenderer(std::move(scene), Settings{integrator, spp, frames, threads, seed}, dict_or_none(options));
+                          std::optional<uint64_t> seed, std::optional<int> threads, bool aovs) {
+            new (self) PyRenderer(std::move(scene), Settings{integrator, spp, frames, threads, seed, aovs}, dict_or_none(options));
           },
           nb::arg("scene"), nb::arg("integrator") = nb::none(), nb::arg("options") = nb::none(), nb::kw_only(),
           nb::arg("spp") = nb::none(), nb::arg("frames") = nb::none(), nb::arg("seed") = nb::none(),
-          nb::arg("threads") = nb::none(),
-          "Options as a dict, nested or with dotted keys ({'pt.shift': 'hybrid'}); spp, frames, seed and threads are "
+          nb::arg("threads") = nb::none(), nb::arg("aovs") = false,
+          "aovs=True: build the AOVs of every frame (aovs()). Options as a dict, nested or with dotted keys ({'pt.shift': 'hybrid'}); spp, frames, seed and threads are "
           "the CLI's --spp, --frames, --seed and --threads. Bad options raise OptionError with the CLI's message.")
       .def("render_frame", &PyRenderer::render_frame, nb::arg("camera") = nb::none(),
            "Renders the next frame (the GIL is released; Ctrl-C raises KeyboardInterrupt and restarts the history). "
@@ -192,6 +229,12 @@ void bind_renderer(nb::module_& m) {
       .def("reset", [](PyRenderer& r, std::optional<nb::dict> options) { r.reset(dict_or_none(options)); },
            nb::arg("options") = nb::none(),
            "New option values (film size excepted) on top of the current ones; the history restarts at frame 0.")
+      .def("aovs", &PyRenderer::aovs,
+           "The last frame's AOVs (needs aovs=True or a denoise.method), copies: albedo, normal (world, unit, toward the "
+           "camera) and emission H x W x 3; depth (linear view depth, camera-space z) and depth_gradient H x W; motion "
+           "H x W x 2 (pixels to the previous frame's position); surface_id H x W uint32 (0xffffffff: no surface). "
+           "docs/denoise.md describes each.")
+      .def("denoised", &PyRenderer::denoised, "The last frame after denoise.method (a copy), or None when it is none.")
       .def("stage_times", &PyRenderer::stage_times, "Wall time (ms) of each stage of the last frame.")
       .def("options", &PyRenderer::options, "Every option's value as text, as `restir render` echoes them.")
       .def("camera", &PyRenderer::camera_at, nb::arg("frame"), "The scene's camera (path) at a frame of the sequence.")
