@@ -96,6 +96,48 @@ RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, 
   }
 }
 
+// Pass 2's inputs at pixel p: 0 the pixel itself, then its accepted partners with the texture
+// (slot) and pixel (at) of each.
+template <class Res>
+struct PairedInputs {
+  const GSurface* surfaces[PairingView::kMaxTextures + 1];
+  const Res* inputs[PairingView::kMaxTextures + 1];
+  int slot[PairingView::kMaxTextures + 1];
+  size_t at[PairingView::kMaxTextures + 1];
+};
+
+// Fills `in` for pixel (x, y) (a valid surface) and returns the input count; counts the partners
+// tried and rejected for the debug views.
+template <class Res>
+RESTIR_HD int paired_inputs(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, const PairedShift* shifts,
+                            const PairedRound& pr, const ReuseDebugView& dbg, int x, int y, PairedInputs<Res>& in) {
+  const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
+  in.surfaces[0] = &g.at(x, y), in.inputs[0] = &reservoirs[p], in.at[0] = p, in.slot[0] = -1;
+  int n = 1;
+  for (int t = 0; t < pr.pairing.count; ++t) {
+    ++dbg.tried[p];
+    int qx, qy;
+    if (!pr.accepted_partner(rp, g, t, x, y, qx, qy, true)) {
+      ++dbg.rejected[p];
+      continue;
+    }
+    in.at[n] = size_t(qy) * size_t(g.width) + size_t(qx);
+    in.surfaces[n] = &g.at(qx, qy), in.inputs[n] = &reservoirs[in.at[n]], in.slot[n] = t;
+    ++n;
+  }
+#ifndef __CUDA_ARCH__
+  // The partners' reservoirs and shift slots are up to a few sigma rows away (cache misses, as in
+  // spatial_pixel): fetch them all before the first is read.
+  for (int i = 1; i < n; ++i) {
+    prefetch_lines(in.inputs[i], sizeof(Res));
+    prefetch_lines(shifts + in.at[i] * k + size_t(in.slot[i]), sizeof(PairedShift));
+  }
+#else
+  (void)shifts, (void)k;
+#endif
+  return n;
+}
+
 // Pass 2 at pixel (x, y): its reservoir combined with its accepted partners' (defensive pairwise
 // MIS, as restir::combine with ReuseMis::pairwise), into next.
 template <class Res, class MakeBridge>
@@ -106,31 +148,12 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
   const GSurface& cur = g.at(x, y);
   next[p] = reservoirs[p];
   if (!cur.valid) return;
-  const GSurface* surfaces[PairingView::kMaxTextures + 1];
-  const Res* inputs[PairingView::kMaxTextures + 1];
-  int slot[PairingView::kMaxTextures + 1];  // input i's texture
-  size_t at[PairingView::kMaxTextures + 1];  // input i's pixel
-  surfaces[0] = &cur, inputs[0] = &reservoirs[p], at[0] = p, slot[0] = -1;
-  int n = 1;
-  for (int t = 0; t < pr.pairing.count; ++t) {
-    ++dbg.tried[p];
-    int qx, qy;
-    if (!pr.accepted_partner(rp, g, t, int(x), int(y), qx, qy, true)) {
-      ++dbg.rejected[p];
-      continue;
-    }
-    at[n] = size_t(qy) * size_t(g.width) + size_t(qx);
-    surfaces[n] = &g.at(qx, qy), inputs[n] = &reservoirs[at[n]], slot[n] = t;
-    ++n;
-  }
-#ifndef __CUDA_ARCH__
-  // The partners' reservoirs and shift slots are up to a few sigma rows away (cache misses, as in
-  // spatial_pixel): fetch them all before the first is read.
-  for (int i = 1; i < n; ++i) {
-    prefetch_lines(inputs[i], sizeof(Res));
-    prefetch_lines(shifts + at[i] * k + size_t(slot[i]), sizeof(PairedShift));
-  }
-#endif
+  PairedInputs<Res> in_;
+  const int n = paired_inputs(rp, g, reservoirs, shifts, pr, dbg, x, y, in_);
+  const GSurface* const* surfaces = in_.surfaces;
+  const Res* const* inputs = in_.inputs;
+  const int* slot = in_.slot;
+  const size_t* at = in_.at;
   auto bridge = make_bridge(surfaces, n, false);
   Res out;
   float m_sum = 0;
