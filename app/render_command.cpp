@@ -114,6 +114,24 @@ std::string stage_summary(const RenderResult& r) {
   return s;
 }
 
+// The JSON sidecar of a render: configuration, scene, version and timings (frames and stages).
+static void write_sidecar(const std::string& path, const std::string& scene, const std::string& config_json, const RenderResult& r) {
+  nlohmann::ordered_json side;
+  side[kSidecarMarker] = 1;
+  side["version"] = rl::build_id();
+  side["scene"] = scene;
+  side["config"] = nlohmann::ordered_json::parse(config_json);
+  side["frame_ms"] = r.frame_ms;
+  nlohmann::ordered_json stages = nlohmann::ordered_json::array();
+  for (const StageTimes& st : r.frame_stages) {
+    nlohmann::ordered_json one = nlohmann::ordered_json::object();
+    for (const auto& [name, ms] : st.ms) one[name] = ms;
+    stages.push_back(std::move(one));
+  }
+  side["stage_ms"] = std::move(stages);
+  write_text_file_atomic(path, side.dump(2) + "\n");
+}
+
 int run_render(const RenderArgs& a) {
   if (a.out.empty() && a.png.empty() && a.average.empty() && a.frame_dir.empty() && a.aov_dir.empty())
     throw UsageError("render: no output: give -o OUT.exr and/or --png OUT.png");
@@ -182,22 +200,7 @@ int run_render(const RenderArgs& a) {
   if (a.stats) fmt::print("{}", stage_summary(r));
   // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
   // key lets a later run tell its own sidecar from a user's JSON file of the same name.
-  if (!sidecar.empty()) {
-    nlohmann::ordered_json side;
-    side[kSidecarMarker] = 1;
-    side["version"] = rl::build_id();
-    side["scene"] = a.scene;
-    side["config"] = nlohmann::ordered_json::parse(config_json);
-    side["frame_ms"] = r.frame_ms;
-    nlohmann::ordered_json stages = nlohmann::ordered_json::array();
-    for (const StageTimes& st : r.frame_stages) {
-      nlohmann::ordered_json one = nlohmann::ordered_json::object();
-      for (const auto& [name, ms] : st.ms) one[name] = ms;
-      stages.push_back(std::move(one));
-    }
-    side["stage_ms"] = std::move(stages);
-    write_text_file_atomic(sidecar, side.dump(2) + "\n");
-  }
+  if (!sidecar.empty()) write_sidecar(sidecar, a.scene, config_json, r);
   if (!a.quiet) {
     double total = 0;
     for (double ms : r.frame_ms) total += ms;
