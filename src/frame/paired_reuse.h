@@ -186,7 +186,7 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
       m = m_c / m_sum;
       for (int j = 1; j < n; ++j) {
         const PairedShift o = own[slot[j]];
-        m += inputs[j]->confidence / m_sum * restir::detail::pairwise_fraction(m_c * s.target, m_rest * o.target * o.jacobian);
+        m += restir::detail::pairwise_canonical_term(inputs[j]->confidence, m_sum, m_c, s.target, m_rest, o.target * o.jacobian);
       }
     } else {  // m_j: the neighbour's own target p̂_j(X_j) over the jacobian is p̂_{<-j} at x (mis.h)
       float own_target = in.target / s.jacobian;
@@ -195,7 +195,7 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
       } else {
         own_target = paired_own_target(bridge, i, in);
       }
-      m = in.confidence / m_sum * restir::detail::pairwise_fraction(m_rest * own_target, m_c * s.target);
+      m = restir::detail::pairwise_neighbor_weight(in.confidence, m_sum, m_rest, own_target, m_c, s.target);
     }
     if (restir::stream(out, in.sample, s.target, restir::resampling_weight(m, s.target, in.ucw, s.jacobian), rng.next_float()))
       selected = i;

@@ -51,6 +51,14 @@ namespace detail {
 //   m_j(x) = (M_j/ΣM) · R p̂_{←j}(x) / (R p̂_{←j}(x) + M_c p̂_0(x))
 // For every x with p̂_0(x) > 0 the weights of all sources sum to one (each pair's two fractions sum to 1).
 RESTIR_HD inline float pairwise_fraction(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
+// m_c's term for neighbour j: (M_j/ΣM) · M_c p̂_0(x) / (M_c p̂_0(x) + R p̂_{←j}(x)). p_from_j = p̂_{←j}(x).
+RESTIR_HD inline float pairwise_canonical_term(float m_j, float m_sum, float m_c, float p0, float m_rest, float p_from_j) {
+  return m_j / m_sum * pairwise_fraction(m_c * p0, m_rest * p_from_j);
+}
+// m_j(x) = (M_j/ΣM) · R p̂_{←j}(x) / (R p̂_{←j}(x) + M_c p̂_0(x)). p_from_j = p̂_{←j}(x).
+RESTIR_HD inline float pairwise_neighbor_weight(float m_j, float m_sum, float m_rest, float p_from_j, float m_c, float p0) {
+  return m_j / m_sum * pairwise_fraction(m_rest * p_from_j, m_c * p0);
+}
 
 // p̂_{←i} of input i's own sample shifted to x = T_{i→0}(y) with `jacobian` |∂T_{i→0}/∂y|: its
 // stored target over that jacobian where the bridge vouches for it (see Bridge above).
@@ -116,10 +124,9 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
         if (i == 0) {
           m = m_c / m_sum;
           for (int j = 1; j < n; ++j)
-            m += inputs[size_t(j)]->confidence / m_sum *
-                 detail::pairwise_fraction(m_c * p0, m_rest * bridge.target_from(j, x));
+            m += detail::pairwise_canonical_term(inputs[size_t(j)]->confidence, m_sum, m_c, p0, m_rest, bridge.target_from(j, x));
         } else {
-          m = in.confidence / m_sum * detail::pairwise_fraction(m_rest * detail::own_target(bridge, i, in, x, jacobian), m_c * p0);
+          m = detail::pairwise_neighbor_weight(in.confidence, m_sum, m_rest, detail::own_target(bridge, i, in, x, jacobian), m_c, p0);
         }
         break;
       }
