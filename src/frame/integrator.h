@@ -76,10 +76,17 @@ class Integrator {
   // True when render_frame wants FrameInfo::previous_scene / previous_accel (the renderer then
   // keeps a second, one-frame-old copy of an animated scene and its BVH: twice the animation cost).
   virtual bool needs_previous_scene() const { return false; }
-  // True when render_frame keeps no state between frames, so that rendering frame f-1's FrameInfo
-  // again in frame f's scene re-shades f-1's samples with their own random numbers: the temporal
-  // gradients of A-SVGF (Schied et al. 2018, sec. 4; src/post/asvgf.h).
-  virtual bool reshades_previous() const { return false; }
+  // A-SVGF's temporal gradients (Schied et al. 2018, sec. 4; src/post/asvgf.h) need the previous
+  // frame's samples shaded again in this frame's scene with their own random numbers. True when
+  // rerender_previous can do that: an integrator without state between frames (pt) renders frame
+  // f-1's FrameInfo again; a ReSTIR integrator, whose frame f-1 started from the history of f-2,
+  // keeps a copy of that history (keep_history) and renders f-1 again from it.
+  virtual bool rerenders_previous() const { return false; }
+  // Called once, before the first frame, by a renderer that will call rerender_previous.
+  virtual void keep_history(bool) {}
+  // Renders `previous` (frame f-1's FrameInfo, in frame f's scene) into `out` from the state frame
+  // f-1 started from; the integrator's state afterwards is what it was (frame f+1 is unaffected).
+  virtual void rerender_previous(const FrameInfo& previous, Image& out) { render_frame(previous, out); }
 };
 
 // One row of the registry (src/integrators/registry.cpp): an algorithm, the option groups it

@@ -322,7 +322,8 @@ void visit_options(O& o, V& v) {
   v("ssr.temporal", o.ssr.temporal, "accumulate the reflective pixels over frames: reproject into the previous frame and blend (exponential average; history rejected where depth or normal changed)");
   v("ssr.temporal_alpha", o.ssr.temporal_alpha, "ssr.temporal: weight of the new frame in the running average (1 = no history)", Range{1e-3, 1});
   v("denoise.method", o.denoise.method, "post-process each frame after the integrator: none, svgf (Schied et al. 2017) or asvgf (SVGF "
-    "with temporal gradients, Schied et al. 2018; pt only: it re-renders the previous frame's samples) or oidn (Intel "
+    "with temporal gradients, Schied et al. 2018: it renders the previous frame again in this frame's scene; "
+    "pt and the ReSTIR integrators) or oidn (Intel "
     "Open Image Denoise 2, loaded at run time: denoise.oidn_library); -o, --png and --frame-dir then write the "
     "denoised frame, --average the raw mean; docs/denoise.md");
   v("denoise.atrous_iterations", o.denoise.atrous_iterations, "svgf: a-trous wavelet iterations (step 2^i pixels)", Range{1, 10});

@@ -101,12 +101,15 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   check_denoiser();
 }
 
-// A denoiser that needs re-shaded samples (A-SVGF) runs only after an integrator that gives them.
-void FrameRenderer::check_denoiser() const {
-  if (denoiser_ && denoiser_->wants_reshade() && !integrator_->reshades_previous())
-    throw OptionError(fmt::format("denoise.method = {}: needs an integrator that re-shades the previous frame's samples "
-                                  "(pt); {} keeps state between frames (use denoise.method = svgf)",
+// A denoiser that needs re-shaded samples (A-SVGF) runs only after an integrator that gives them,
+// which then keeps the history each frame starts from.
+void FrameRenderer::check_denoiser() {
+  if (!denoiser_ || !denoiser_->wants_reshade()) return;
+  if (!integrator_->rerenders_previous())
+    throw OptionError(fmt::format("denoise.method = {}: needs an integrator that can render the previous frame again "
+                                  "(pt, restir-di, restir-gi, restir-pt); {} cannot (use denoise.method = svgf)",
                                   enum_name(o_.denoise.method), o_.integrator));
+  integrator_->keep_history(true);
 }
 
 RenderContext FrameRenderer::context() const {
@@ -134,6 +137,7 @@ void FrameRenderer::reset(const Options& o) {
   check_denoiser();
   denoised_ = Image();
   previous_.reset();
+  before_previous_.reset();
   frame_ = 0;
 }
 
@@ -200,6 +204,7 @@ double FrameRenderer::render_frame(const CameraKey& key, int count, Image& out, 
   check_finite(o_.integrator, frame_, out);
   post_process(cam, out, stages);
   double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  before_previous_ = previous_;
   previous_ = cam;
   ++frame_;
   return ms;
@@ -215,16 +220,19 @@ void FrameRenderer::post_process(const PerspectiveCamera& cam, const Image& raw,
   }
   if (!denoiser_) return;
   if (denoiser_->wants_reshade() && previous_) {
-    // A-SVGF: the previous frame's samples (its camera, its frame index: its random streams)
-    // shaded in this frame's scene.
+    // A-SVGF: the previous frame's samples (its camera, its frame index: its random streams, and
+    // for a ReSTIR integrator the history it started from) shaded in this frame's scene and
+    // lights. Its own previous camera is frame f-2's; the history's lights are taken as they are
+    // now (no previous_lights), so a sample of a light switched off has no target any more.
     StageTimer timer(stages, "reshade");
     FrameInfo info;
     info.index = frame_ - 1;
     info.count = frame_;
     info.camera = &*previous_;
+    info.previous_camera = before_previous_ ? &*before_previous_ : nullptr;
     if (reshaded_.width != raw.width || reshaded_.height != raw.height) reshaded_ = Image(raw.width, raw.height);
     else std::fill(reshaded_.pixels.begin(), reshaded_.pixels.end(), Rgb(0));
-    integrator_->render_frame(info, reshaded_);
+    integrator_->rerender_previous(info, reshaded_);
     denoiser_->set_reshaded_previous(reshaded_);
   }
   StageTimer timer(stages, "denoise");

@@ -89,11 +89,14 @@ class FrameRenderer {
   // The last frame after the post-process stage; empty when denoise.method = none. The frame that
   // render_frame wrote into `out` stays the integrator's raw one.
   const Image& denoised() const { return denoised_; }
+  // A-SVGF: the previous frame rendered again in the last frame's scene (Integrator::rerender_previous);
+  // empty before the second frame or without denoise.method = asvgf.
+  const Image& reshaded() const { return reshaded_; }
 
  private:
   RenderContext context() const;
   void post_process(const PerspectiveCamera& cam, const Image& raw, StageTimes* stages);
-  void check_denoiser() const;
+  void check_denoiser();
   const Scene& rest_;  // the scene as loaded (the rest pose of an animated scene)
   // An animated scene's current frame (animate_scene), which the BVH, the lights and the
   // integrator see; the loaded scene itself when nothing is animated.
@@ -117,6 +120,7 @@ class FrameRenderer {
   Image denoised_;
   Image reshaded_;  // A-SVGF: the previous frame's samples shaded in this frame
   std::optional<PerspectiveCamera> previous_;
+  std::optional<PerspectiveCamera> before_previous_;  // A-SVGF: frame f-2's camera, the previous frame's previous
   int frame_ = 0;
   int shown_frame_ = 0;  // the frame animated_ (and the BVH and lights built from it) shows: 0 after construction
 };

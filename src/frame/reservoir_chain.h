@@ -213,6 +213,29 @@ struct ReservoirChain {
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
 
+  // What a frame starts from and a frame leaves for the next: the history. A copy lets A-SVGF
+  // render the previous frame again from it (ReservoirFrame::rerender_previous).
+  struct History {
+    Array<Res> reservoirs;
+    Array<GSurface> gbuffer;
+    Array<float> caps;
+    int width = 0, height = 0;
+    bool valid = false, has_caps = false;
+  };
+  void copy_history_to(History& h) const {
+    const size_t n = size_t(previous_width) * size_t(previous_height);
+    h.width = previous_width, h.height = previous_height, h.valid = has_history, h.has_caps = has_history_caps;
+    if (!has_history) return;
+    Exec::copy(h.reservoirs, previous, n);
+    Exec::copy(h.gbuffer, previous_gbuffer, n);
+    if (has_history_caps) Exec::copy(h.caps, history_caps, n);
+  }
+  void swap_history(History& h) {
+    previous.swap(h.reservoirs), previous_gbuffer.swap(h.gbuffer), history_caps.swap(h.caps);
+    std::swap(previous_width, h.width), std::swap(previous_height, h.height);
+    std::swap(has_history, h.valid), std::swap(has_history_caps, h.has_caps);
+  }
+
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
   GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr}; }
 
@@ -354,6 +377,39 @@ class ReservoirFrame : public Integrator {
   explicit ReservoirFrame(const RenderContext& ctx) : ctx_(ctx) {}
 
   void render_frame(const FrameInfo& frame, Image& out) override {
+    if (keep_history_) {  // the history this frame starts from, kept for the next frame's rerender_previous
+      std::swap(started_previous_, started_current_);
+      started_current_.resize(chains_.size());
+      for (size_t s = 0; s < chains_.size(); ++s) {
+        if (!started_current_[s]) started_current_[s] = std::make_unique<History>();
+        chains_[s]->copy_history_to(*started_current_[s]);
+      }
+    }
+    render_chains_of(frame, out);
+  }
+
+  // A-SVGF: frame f-1 rendered again, in frame f's scene, from the copy of the history it started
+  // from (none for frame 0, or for a chain made in frame f-1), with its own random numbers (its
+  // FrameInfo's index): where the scene did not change, the same image bit for bit. The chains'
+  // history is exchanged with the copy and back, so frame f+1 starts from frame f's history.
+  bool rerenders_previous() const override { return true; }
+  void keep_history(bool on) override { keep_history_ = on; }
+  void rerender_previous(const FrameInfo& previous, Image& out) override {
+    started_previous_.resize(chains_.size());
+    for (auto& h : started_previous_)
+      if (!h) h = std::make_unique<History>();
+    const auto exchange = [&] {
+      for (size_t s = 0; s < chains_.size(); ++s) chains_[s]->swap_history(*started_previous_[s]);
+    };
+    exchange();
+    render_chains_of(previous, out);
+    exchange();
+  }
+
+ protected:
+  using History = typename Chain::History;
+
+  void render_chains_of(const FrameInfo& frame, Image& out) {
     world_.update(ctx_, frame);
     render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) {
       c.begin_frame(world_, ctx_, frame, s);
@@ -362,7 +418,6 @@ class ReservoirFrame : public Integrator {
     });
   }
 
- protected:
   // Chain c's candidates, reuse and shading, between its primary hits and its end of frame; f:
   // the random streams of its chain (f.chain) in this frame.
   virtual void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) = 0;
@@ -388,6 +443,9 @@ class ReservoirFrame : public Integrator {
   typename B::World world_;
   std::vector<std::unique_ptr<Chain>> chains_;
   typename Exec::template Array<Rgb> sum_;
+  // A-SVGF (keep_history): per chain, the history frame f-1 started from and the one frame f did.
+  bool keep_history_ = false;
+  std::vector<std::unique_ptr<History>> started_previous_, started_current_;
 };
 
 }  // namespace rl

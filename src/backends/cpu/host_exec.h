@@ -3,7 +3,7 @@
 // launches -- also runs, and is tested, on a machine without a GPU.
 //   Exec::Store                 where uploaded views live (view_upload.h)
 //   Exec::Array<T>              a growing buffer: data, capacity, reserve(n), swap(other)
-//   Exec::zero / upload / download (buffer <-> host memory, n elements)
+//   Exec::zero / upload / download (buffer <-> host memory, n elements), copy (buffer -> buffer)
 //   Exec::mirror(a, host, n)          the host array as the stages read it: itself here (no copy),
 //                                     a copy in a on the device
 //   Exec::for_pixels(w, h, f, what, progress)   f(x, y) for every pixel, all done on return
@@ -67,6 +67,12 @@ struct HostExec {
   template <class T>
   static void download(T* host, const Array<T>& a, size_t n) {
     std::copy_n(a.data, n, host);
+  }
+  // dst's first n elements := src's (dst grown to n).
+  template <class T>
+  static void copy(Array<T>& dst, const Array<T>& src, size_t n) {
+    dst.reserve(n);
+    std::copy_n(src.data, n, dst.data);
   }
   template <class T>
   static const T* mirror(Array<T>&, const T* host, size_t n) {

@@ -55,6 +55,11 @@ struct CudaExec {
     if (n) check(cudaMemcpy(host, a.data, n * sizeof(T), cudaMemcpyDeviceToHost), "copying from the device");
   }
   template <class T>
+  static void copy(Array<T>& dst, const Array<T>& src, size_t n) {
+    dst.reserve(n);
+    if (n) check(cudaMemcpy(dst.data, src.data, n * sizeof(T), cudaMemcpyDeviceToDevice), "copying on the device");
+  }
+  template <class T>
   static const T* mirror(Array<T>& a, const T* host, size_t n) {
     upload(a, host, n);
     return n ? a.data : nullptr;

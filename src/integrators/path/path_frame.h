@@ -129,7 +129,7 @@ class PathFrame final : public Integrator {
  public:
   using Exec = typename B::Exec;
   explicit PathFrame(const RenderContext& ctx) : ctx_(ctx) {}
-  bool reshades_previous() const override { return true; }  // every frame a function of its FrameInfo alone
+  bool rerenders_previous() const override { return true; }  // every frame a function of its FrameInfo alone
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     using namespace path_frame_detail;

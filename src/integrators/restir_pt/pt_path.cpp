@@ -39,12 +39,13 @@ std::vector<PathSample> walk_paths(const PathWorld& world, const EmbreeTracer& t
   return out;
 }
 
-void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out) {
+void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out, bool rerender) {
   Image di(out.width, out.height);
   FrameInfo di_frame = frame;
   StageTimes di_stages;
   di_frame.stages = &di_stages;
-  direct.render_frame(di_frame, di);
+  if (rerender) direct.rerender_previous(di_frame, di);
+  else direct.render_frame(di_frame, di);
   if (frame.stages)
     for (const auto& [name, ms] : di_stages.ms) frame.stages->add("di." + name, ms);
   for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += di.pixels[i];

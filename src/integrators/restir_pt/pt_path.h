@@ -100,8 +100,9 @@ std::vector<PathSample> walk_paths(const PathWorld& world, const EmbreeTracer& t
                                    uint64_t walk_seed);
 
 // pt.direct = restir-di: renders this frame of `direct` (ReSTIR DI on the same primary rays) and
-// adds it to `out`; its stages are recorded in frame.stages as "di.<stage>".
-void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out);
+// adds it to `out`; its stages are recorded in frame.stages as "di.<stage>". rerender: frame is the
+// previous frame, rendered again (Integrator::rerender_previous).
+void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out, bool rerender = false);
 
 // The reconnection-depth debug view's histogram of one chain's final reservoirs (k = 0: no
 // reconnection), one line on stderr.

@@ -68,6 +68,15 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     // rays), the paths only the indirect part (length >= 3).
     if (direct_) add_direct_light(*direct_, frame, out);
   }
+  // A-SVGF: the paths and ReSTIR DI's direct light each from the history frame f-1 started from.
+  void keep_history(bool on) override {
+    Base::keep_history(on);
+    if (direct_) direct_->keep_history(on);
+  }
+  void rerender_previous(const FrameInfo& previous, Image& out) override {
+    Base::rerender_previous(previous, out);
+    if (direct_) add_direct_light(*direct_, previous, out, /*rerender=*/true);
+  }
 
  private:
   void render_chain(const FrameInfo& frame, const ReuseFrame& f, Chain& c) override {
