@@ -36,13 +36,14 @@ inline void gaussian_tap(const float* __restrict var, float* __restrict sum, flo
 }
 
 // One tap of the a-trous pass (Schied 2017 eq. 1-2) for n pixels: the weight of eq. 3-5 times the
-// B3 kernel k (svgf_stages.h's edge_weight, the per-pixel stages' function, here a vector lane per
-// pixel). K: sigma_n = 2^K by K squarings; kPow: std::pow (not vectorised).
+// B3 kernel k (svgf_stages.h's normal_weight, edge_exponent and edge_weight, the per-pixel stages'
+// functions, here a vector lane per pixel). K: sigma_n = 2^K by K squarings; kPow: std::pow (not
+// vectorised).
 template <int K>
 inline void atrous_taps(CentreRow c, TapRow q, SumRow s, int n, float k, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
-    const float wt = edge_weight<K>(c.nx[x], c.ny[x], c.nz[x], c.z[x], c.l[x], c.ipz[x], c.ipl[x], q.nx[x], q.ny[x], q.nz[x], q.z[x],
-                                    q.l[x], k, inv_dist, sigma_n, K);
+    const float wn = normal_weight<K>(c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x], sigma_n, K);
+    const float wt = edge_weight(k, wn, edge_exponent(c.z[x], q.z[x], c.ipz[x], inv_dist, c.l[x], q.l[x], c.ipl[x]));
     s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
     s.var[x] += wt * wt * q.var[x];
     s.w[x] += wt;
@@ -76,8 +77,8 @@ struct MomentRow {
 template <int K>
 inline void moment_taps(CentreRow c, MomentRow q, SumRow s, float* __restrict m2, int n, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
-    const float wt = edge_weight<K>(c.nx[x], c.ny[x], c.nz[x], c.z[x], c.l[x], c.ipz[x], c.ipl[x], q.nx[x], q.ny[x], q.nz[x], q.z[x],
-                                    q.l[x], 1.0f, inv_dist, sigma_n, K);
+    const float wn = normal_weight<K>(c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x], sigma_n, K);
+    const float wt = edge_weight(1.0f, wn, edge_exponent(c.z[x], q.z[x], c.ipz[x], inv_dist, c.l[x], q.l[x], c.ipl[x]));
     s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
     s.var[x] += wt * q.m1[x];  // (the first moment's sum)
     m2[x] += wt * q.m2[x];
@@ -125,7 +126,9 @@ void Svgf::demodulate_and_accumulate(const Image& noisy, const Aovs& aovs) {
     const Temporal t = temporal_pixel(previous_geometry_.empty() ? nullptr : &history, x, y, width_, height_, noisy.pixels[i],
                                       aovs.albedo[i], aovs.emission[i], aovs.motion[i], geometry_[i],
                                       lambda_.empty() ? nullptr : &lambda_[i], p);
-    ping_[i] = t.s;
+    // Field by field: a 16-byte copy of t.s read back the two 8-byte halves GCC had just stored, a
+    // store-forwarding stall that took a third of this stage's time.
+    ping_[i].c = t.s.c, ping_[i].var = t.s.var;
     moments_[i] = t.moments;
     history_length_[i] = t.length;
   });

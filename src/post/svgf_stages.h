@@ -122,13 +122,14 @@ RESTIR_HD inline float pow_hd(float x, float y) {
 // Schied 2017 eq. 3-5, multiplied, times the kernel weight k: w = k max(0, n.n')^sigma_n
 // exp(-|z - z'| / (sigma_z dz |p - q|) - |l - l'| ipl) (eq. 3's |grad z . (p - q)| as the centre's
 // largest derivative dz times the tap distance; ipz = inv_depth_scale, ipl = eq. 5's luminance
-// denominator inverted); 0 where the exponent passes 40. The 7x7 moments estimate passes k = 1
-// (1 x wn is wn exactly). Centre c*, tap q*; K: see kPow / kRuntime.
+// denominator inverted); 0 where the exponent passes 40. In three parts, which Svgf's vectorised
+// rows call in this order: passing all twelve plane values to one function loaded them all before
+// any arithmetic, and the AVX2 loop spilled registers (its a-trous taps 28% slower).
+// Eq. 4: max(0, n.n')^sigma_n of the normals' cosine nd (a pixel without a surface has normal 0).
+// K: see kPow / kRuntime.
 template <int K>
-RESTIR_HD inline float edge_weight(float cnx, float cny, float cnz, float cz, float cl, float cipz, float cipl, float qnx, float qny,
-                                   float qnz, float qz, float ql, float k, float inv_dist, float sigma_n, int squarings) {
-  const float nd = cnx * qnx + cny * qny + cnz * qnz;
-  float wn = nd > 0 ? nd : 0.0f;  // eq. 4 (a pixel without a surface has normal 0)
+RESTIR_HD inline float normal_weight(float nd, float sigma_n, int squarings) {
+  float wn = nd > 0 ? nd : 0.0f;
   if constexpr (K >= 0) {
     for (int t = 0; t < K; ++t) wn *= wn;
   } else if (K == kRuntime && squarings >= 0) {
@@ -136,8 +137,25 @@ RESTIR_HD inline float edge_weight(float cnx, float cny, float cnz, float cz, fl
   } else {
     wn = wn > 0 ? pow_hd(wn, sigma_n) : 0.0f;
   }
-  const float e = std::fabs(cz - qz) * (cipz * inv_dist) + std::fabs(cl - ql) * cipl;  // eq. 3, 5
-  return e > 40 ? 0.0f : k * wn * exp_neg(std::min(e, 40.0f));
+  return wn;
+}
+// Eq. 3 and 5's exponent: centre depth cz, its ipz and luminance cl, ipl; the tap's qz, ql.
+RESTIR_HD inline float edge_exponent(float cz, float qz, float cipz, float inv_dist, float cl, float ql, float cipl) {
+  return std::fabs(cz - qz) * (cipz * inv_dist) + std::fabs(cl - ql) * cipl;
+}
+// The tap's weight from eq. 4's wn and the exponent e, times the kernel weight k (the 7x7
+// moments estimate passes k = 1: 1 x wn is wn exactly).
+RESTIR_HD inline float edge_weight(float k, float wn, float e) { return e > 40 ? 0.0f : k * wn * exp_neg(std::min(e, 40.0f)); }
+
+// The three above for centre pixel i and tap q of planes (the per-pixel stages).
+struct EdgePlanes {
+  const float *nx, *ny, *nz, *z, *ipz, *l;
+};
+template <int K>
+RESTIR_HD inline float edge_weight_at(const EdgePlanes& e, size_t i, size_t q, float ipl, float k, float inv_dist, float sigma_n,
+                                      int squarings) {
+  const float wn = normal_weight<K>(e.nx[i] * e.nx[q] + e.ny[i] * e.ny[q] + e.nz[i] * e.nz[q], sigma_n, squarings);
+  return edge_weight(k, wn, edge_exponent(e.z[i], e.z[q], e.ipz[i], inv_dist, e.l[i], e.l[q], ipl));
 }
 
 // 1 / |p - q| for the tap (dx, dy) `step` pixels apart (eq. 3's distance).
@@ -245,6 +263,7 @@ RESTIR_HD inline Sample moments_pixel(const GeometryPlanes& g, const SamplePlane
                                       float history, const Params& p) {
   const size_t i = size_t(y) * size_t(width) + size_t(x);
   const float ipl = 1 / p.sigma_l;
+  const EdgePlanes e{g.nx, g.ny, g.nz, g.z, g.ipz, s.l};
   float sr = s.r[i], sg = s.g[i], sb = s.b[i], s1 = s.var[i], s2 = s.m2[i], sw = 1;
   for (int dy = -3; dy <= 3; ++dy) {
     const int qy = y + dy;
@@ -253,8 +272,7 @@ RESTIR_HD inline Sample moments_pixel(const GeometryPlanes& g, const SamplePlane
       const int qx = x + dx;
       if ((dx == 0 && dy == 0) || qx < 0 || qx >= width) continue;
       const size_t q = size_t(qy) * size_t(width) + size_t(qx);
-      const float wt = edge_weight<kRuntime>(g.nx[i], g.ny[i], g.nz[i], g.z[i], s.l[i], g.ipz[i], ipl, g.nx[q], g.ny[q], g.nz[q], g.z[q],
-                                             s.l[q], 1.0f, tap_inv_distance(1, dx, dy), p.sigma_n, p.squarings);
+      const float wt = edge_weight_at<kRuntime>(e, i, q, ipl, 1.0f, tap_inv_distance(1, dx, dy), p.sigma_n, p.squarings);
       sr += wt * s.r[q], sg += wt * s.g[q], sb += wt * s.b[q];
       s1 += wt * s.var[q];
       s2 += wt * s.m2[q];
@@ -283,6 +301,7 @@ RESTIR_HD inline Sample atrous_pixel(const GeometryPlanes& g, const SamplePlanes
     }
   }
   const float ipl = luminance_scale(p.sigma_l, gv, gw);
+  const EdgePlanes e{g.nx, g.ny, g.nz, g.z, g.ipz, s.l};
   float sr = s.r[i], sg = s.g[i], sb = s.b[i], sv = s.var[i], sw = 1;
   for (int dy = -2; dy <= 2; ++dy) {
     const int qy = y + dy * step;
@@ -291,8 +310,7 @@ RESTIR_HD inline Sample atrous_pixel(const GeometryPlanes& g, const SamplePlanes
       const int qx = x + dx * step;
       if ((dx == 0 && dy == 0) || qx < 0 || qx >= width) continue;
       const size_t q = size_t(qy) * size_t(width) + size_t(qx);
-      const float wt = edge_weight<kRuntime>(g.nx[i], g.ny[i], g.nz[i], g.z[i], s.l[i], g.ipz[i], ipl, g.nx[q], g.ny[q], g.nz[q], g.z[q],
-                                             s.l[q], b3_weight(dx, dy), tap_inv_distance(step, dx, dy), p.sigma_n, p.squarings);
+      const float wt = edge_weight_at<kRuntime>(e, i, q, ipl, b3_weight(dx, dy), tap_inv_distance(step, dx, dy), p.sigma_n, p.squarings);
       sr += wt * s.r[q], sg += wt * s.g[q], sb += wt * s.b[q];
       sv += wt * wt * s.var[q];
       sw += wt;
