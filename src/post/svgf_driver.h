@@ -247,7 +247,8 @@ void SvgfStages<Exec>::denoise(const Image& noisy, const Aovs& aovs, Image& out)
   temporal(in);
   filter();
   out = Image(width_, height_);
-  const svgf_driver::RemodulateStage stage{width_, in.noisy, in.albedo, in.emission, in.surface_id, ping_.r.data, ping_.g.data, ping_.b.data, out_.data};
+  const svgf_driver::RemodulateStage stage{width_,       in.noisy,     in.albedo,    in.emission, in.surface_id,
+                                           ping_.r.data, ping_.g.data, ping_.b.data, out_.data};
   Exec::for_pixels(width_, height_, stage, "svgf remodulate");
   Exec::download(out.pixels.data(), out_, n_);
   history_m1_.swap(m1_), history_m2_.swap(m2_);

@@ -148,7 +148,8 @@ TEST_SUITE("svgf_stages") {
       SvgfStages<HostExec> stages(o);
       const Differences d = compare(fast, stages, s.frames);
       MESSAGE(name << ": " << s.frames.size() << " frames of " << 3 * s.frames[0].raw.size()
-                     << " floats; differing floats by frame: " << join(d.image) << "; history lengths differ in frames: " << join(d.history));
+                     << " floats; differing floats by frame: " << join(d.image)
+                     << "; history lengths differ in frames: " << join(d.history));
       CHECK(d.total() == 0);
     }
   }
