@@ -88,8 +88,8 @@ void Asvgf::denoise(const Image& noisy, const Aovs& aovs, Image& out) {
                        reshaded_->width == noisy.width && reshaded_->height == noisy.height;
   if (history) gradients(aovs);
   else lambda_.clear();
-  svgf_.set_temporal_lambda(lambda_);
-  svgf_.denoise(noisy, aovs, out);
+  svgf_->set_temporal_lambda(lambda_);
+  svgf_->denoise(noisy, aovs, out);
   previous_ = noisy;
   previous_depth_ = aovs.depth;
   previous_normal_ = aovs.normal;

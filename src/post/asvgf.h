@@ -11,7 +11,10 @@
 //      motion vector, lifts SVGF's temporal weights to (1 - lambda) alpha + lambda (eq. 9).
 // A prototype: pt re-renders the whole previous frame, of which 1 pixel in 9 is used (the paper
 // re-shades only those); the ReSTIR integrators keep state between frames and cannot re-shade yet.
+// The SVGF it wraps is the one the backend gets (denoisers.cpp): Svgf, or SvgfStages on the BVH
+// backends.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "post/svgf.h"
@@ -20,19 +23,21 @@ namespace rl {
 
 class Asvgf : public Denoiser {
  public:
-  explicit Asvgf(const DenoiseOptions& o) : o_(o), svgf_(o) {}
+  // Over `svgf` (null: the CPU's Svgf).
+  explicit Asvgf(const DenoiseOptions& o, std::unique_ptr<SvgfFilter> svgf = nullptr)
+      : o_(o), svgf_(svgf ? std::move(svgf) : std::make_unique<Svgf>(o)) {}
   bool wants_reshade() const override { return true; }
   void set_reshaded_previous(const Image& reshaded) override { reshaded_ = &reshaded; }
   void denoise(const Image& noisy, const Aovs& aovs, Image& out) override;
   // Each pixel's lambda of the last frame (0: history kept as SVGF keeps it; 1: dropped).
   const std::vector<float>& lambda() const { return lambda_; }
-  const Svgf& svgf() const { return svgf_; }
+  const SvgfFilter& svgf() const { return *svgf_; }
 
  private:
   void gradients(const Aovs& aovs);
 
   DenoiseOptions o_;
-  Svgf svgf_;
+  std::unique_ptr<SvgfFilter> svgf_;
   const Image* reshaded_ = nullptr;
   Image previous_;                        // the previous raw frame
   std::vector<float> previous_depth_, previous_dz_;

@@ -3,40 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <bit>
 
 #include "core/parallel.h"
 #include "core/widest.h"
+#include "post/svgf_stages.h"
 
 namespace rl {
 
 namespace {
 
-// Falcor's SVGF reprojection tests (RenderPasses/SVGFPass/SVGFReproject.ps.slang, isReprjValid),
-// with the depth tolerance relative instead of in scene units: a history tap is the same surface
-// when its id matches, its depth is within 4 pixel-derivatives + 5% and its normal within ~25 deg.
-constexpr float kDepthTolerance = 0.05f, kDepthGradients = 4.0f, kNormalCos = 0.9f;
-// Schied 2017 sec. 4.2: the temporal variance is used once 4 frames of history exist.
-constexpr float kMinHistoryForTemporalVariance = 4.0f;
-constexpr float kMaxHistory = 32.0f;  // Falcor: history length saturates at 32 frames
-
-bool same_surface(const Svgf::Geometry& a, const Svgf::Geometry& b) {
-  return a.id == b.id && a.id != kNoSurface && std::fabs(a.z - b.z) <= kDepthTolerance * a.z + kDepthGradients * a.dz &&
-         dot(a.n, b.n) >= kNormalCos;
-}
-
-// e^-e for e in [0, 40]: 2^t = 2^n (the exponent bits) x 2^f, n = round(t), f = t - n in
-// [-1/2, 1/2] (a degree-5 Taylor polynomial, relative error < 3e-6). n by the 1.5 x 2^23 trick:
-// only float adds and integer bit operations, which SSE2 vectorises (a float-to-int conversion in
-// the loop kept GCC from it). The a-trous passes take one per tap; std::exp was a third of their
-// time. Plain arithmetic: the same bits on every thread count and machine.
-inline float exp_neg(float e) {
-  constexpr float kMagic = 12582912.0f;  // 1.5 x 2^23: adding it rounds to an integer in the low mantissa bits
-  const float t = -e * 1.44269504f, y = t + kMagic, f = t - (y - kMagic);
-  const int32_t n = std::bit_cast<int32_t>(y) - std::bit_cast<int32_t>(kMagic);
-  const float p = 1.0f + f * (0.693147181f + f * (0.240226507f + f * (0.0555041087f + f * (0.00961812911f + f * 0.00133335581f))));
-  return p * std::bit_cast<float>((n + 127) << 23);
-}
+using namespace svgf;
 
 // One tap of an a-trous row for n pixels: the centres c, their taps q, the sums s. Separate arrays
 // the compiler is told do not alias (__restrict), so that it vectorises the loop without
@@ -59,22 +35,14 @@ inline void gaussian_tap(const float* __restrict var, float* __restrict sum, flo
   }
 }
 
-// Schied 2017 eq. 3-5, multiplied, times the B3 kernel k: w = k max(0, n.n')^sigma_n
-// exp(-|z - z'| / (sigma_z dz |p - q|) - |l - l'| / (sigma_l sqrt(g(var)) + eps)) (eq. 3's
-// |grad z . (p - q)| as the centre's largest derivative dz times the tap distance; ipz =
-// 1 / (sigma_z dz), 0 without a surface; ipl = the luminance denominator's inverse); 0 where the
-// exponent passes 40. K: sigma_n = 2^K by K squarings; K < 0: std::pow (not vectorised).
+// One tap of the a-trous pass (Schied 2017 eq. 1-2) for n pixels: the weight of eq. 3-5 times the
+// B3 kernel k (svgf_stages.h's edge_weight, the per-pixel stages' function, here a vector lane per
+// pixel). K: sigma_n = 2^K by K squarings; kPow: std::pow (not vectorised).
 template <int K>
 inline void atrous_taps(CentreRow c, TapRow q, SumRow s, int n, float k, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
-    const float nd = c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x];
-    float wn = nd > 0 ? nd : 0.0f;  // eq. 4 (a pixel without a surface has normal 0)
-    if constexpr (K >= 0)
-      for (int t = 0; t < K; ++t) wn *= wn;
-    else
-      wn = wn > 0 ? std::pow(wn, sigma_n) : 0.0f;
-    const float e = std::fabs(c.z[x] - q.z[x]) * (c.ipz[x] * inv_dist) + std::fabs(c.l[x] - q.l[x]) * c.ipl[x];  // eq. 3, 5
-    const float wt = e > 40 ? 0.0f : k * wn * exp_neg(std::min(e, 40.0f));
+    const float wt = edge_weight<K>(c.nx[x], c.ny[x], c.nz[x], c.z[x], c.l[x], c.ipz[x], c.ipl[x], q.nx[x], q.ny[x], q.nz[x], q.z[x],
+                                    q.l[x], k, inv_dist, sigma_n, K);
     s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
     s.var[x] += wt * wt * q.var[x];
     s.w[x] += wt;
@@ -99,7 +67,7 @@ RL_WIDEST void atrous_taps_pow2(CentreRow c, TapRow q, SumRow s, int n, float k,
   }
 }
 
-// One tap of the 7x7 moments estimate for n pixels (weights as atrous_taps, no kernel): the
+// One tap of the 7x7 moments estimate for n pixels (weights as atrous_taps with k = 1): the
 // colour, the two moments and the weight summed.
 struct MomentRow {
   const float *__restrict nx, *__restrict ny, *__restrict nz, *__restrict z, *__restrict l, *__restrict m1,
@@ -108,14 +76,8 @@ struct MomentRow {
 template <int K>
 inline void moment_taps(CentreRow c, MomentRow q, SumRow s, float* __restrict m2, int n, float inv_dist, float sigma_n) {
   for (int x = 0; x < n; ++x) {
-    const float nd = c.nx[x] * q.nx[x] + c.ny[x] * q.ny[x] + c.nz[x] * q.nz[x];
-    float wn = nd > 0 ? nd : 0.0f;
-    if constexpr (K >= 0)
-      for (int t = 0; t < K; ++t) wn *= wn;
-    else
-      wn = wn > 0 ? std::pow(wn, sigma_n) : 0.0f;
-    const float e = std::fabs(c.z[x] - q.z[x]) * (c.ipz[x] * inv_dist) + std::fabs(c.l[x] - q.l[x]) * c.ipl[x];
-    const float wt = e > 40 ? 0.0f : wn * exp_neg(std::min(e, 40.0f));
+    const float wt = edge_weight<K>(c.nx[x], c.ny[x], c.nz[x], c.z[x], c.l[x], c.ipz[x], c.ipl[x], q.nx[x], q.ny[x], q.nz[x], q.z[x],
+                                    q.l[x], 1.0f, inv_dist, sigma_n, K);
     s.r[x] += wt * q.r[x], s.g[x] += wt * q.g[x], s.b[x] += wt * q.b[x];
     s.var[x] += wt * q.m1[x];  // (the first moment's sum)
     m2[x] += wt * q.m2[x];
@@ -140,64 +102,32 @@ RL_WIDEST void moment_taps_pow2(CentreRow c, MomentRow q, SumRow s, float* m2, i
 
 }  // namespace
 
-bool Svgf::reproject(const Aovs& aovs, int x, int y, Rgb& color, Vec2& moments, float& length) const {
-  if (previous_geometry_.empty()) return false;
-  const size_t i = aovs.index(x, y);
-  const float px = float(x) + aovs.motion[i].x, py = float(y) + aovs.motion[i].y;  // pixel centres at integers
-  const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
-  const float fx = px - float(x0), fy = py - float(y0);
-  float sum = 0;
-  color = Rgb(0), moments = {0, 0}, length = 0;
-  for (int t = 0; t < 4; ++t) {  // bilinear taps, each tested (Falcor: a 2x2 with per-tap validity)
-    const int tx = x0 + (t & 1), ty = y0 + (t >> 1);
-    if (tx < 0 || ty < 0 || tx >= width_ || ty >= height_) continue;
-    const size_t j = size_t(ty) * size_t(width_) + size_t(tx);
-    if (!same_surface(geometry_[i], previous_geometry_[j])) continue;
-    const float w = ((t & 1) ? fx : 1 - fx) * ((t >> 1) ? fy : 1 - fy);
-    color += history_color_[j] * w;
-    moments = {moments.x + history_moments_[j].x * w, moments.y + history_moments_[j].y * w};
-    length += previous_length_[j] * w;
-    sum += w;
-  }
-  if (sum < 0.01f) return false;
-  color = color / sum;
-  moments = {moments.x / sum, moments.y / sum};
-  length /= sum;
-  return true;
-}
+// The previous frame's state at pixel j as svgf::reproject reads it (arrays of structs).
+struct Svgf::History {
+  const Geometry* geometry_;
+  const Rgb* color_;
+  const Vec2* moments_;
+  const float* length_;
+  const Geometry& geometry(size_t j) const { return geometry_[j]; }
+  Rgb color(size_t j) const { return color_[j]; }
+  Vec2 moments(size_t j) const { return moments_[j]; }
+  float length(size_t j) const { return length_[j]; }
+};
 
-// Steps 1-2: demodulation, reprojection, temporal accumulation (Schied 2017 sec. 4.1-4.2).
+// Steps 1-2: demodulation, reprojection, temporal accumulation (Schied 2017 sec. 4.1-4.2): each
+// pixel by svgf::temporal_pixel, the per-pixel stages' function.
 void Svgf::demodulate_and_accumulate(const Image& noisy, const Aovs& aovs) {
+  const History history{previous_geometry_.data(), history_color_.data(), history_moments_.data(), previous_length_.data()};
+  const Params p = params_of(o_);
   parallel_for_pixels(width_, height_, [&](int x, int y) {
     const size_t i = aovs.index(x, y);
-    Rgb d(1);
-    for (int c = 0; c < 3; ++c)
-      if (aovs.albedo[i][c] > 1e-3f) d[c] = aovs.albedo[i][c];
-    demod_[i] = d;
-    if (!aovs.valid(i)) {
-      ping_[i] = {noisy.pixels[i], 0};
-      moments_[i] = {0, 0};
-      history_length_[i] = 0;
-      return;
-    }
-    const Rgb illum = (noisy.pixels[i] - aovs.emission[i]) / d;
-    const float l = luminance(illum);
-    Rgb prev_c;
-    Vec2 prev_m;
-    float len = 0;
-    const bool kept = reproject(aovs, x, y, prev_c, prev_m, len);
-    len = kept ? std::min(len + 1, kMaxHistory) : 1;
-    // alpha = max(alpha, 1 / n): a plain mean until the history is 1 / alpha frames long.
-    float a = kept ? std::max(o_.alpha, 1 / len) : 1, am = kept ? std::max(o_.moments_alpha, 1 / len) : 1;
-    if (!lambda_.empty()) {  // A-SVGF: the temporal gradient shortens the history where the lighting changed
-      a = (1 - lambda_[i]) * a + lambda_[i];
-      am = (1 - lambda_[i]) * am + lambda_[i];
-    }
-    const Rgb c = kept ? prev_c + (illum - prev_c) * a : illum;
-    const Vec2 m = kept ? Vec2{prev_m.x + (l - prev_m.x) * am, prev_m.y + (l * l - prev_m.y) * am} : Vec2{l, l * l};
-    ping_[i] = {c, std::max(0.0f, m.y - m.x * m.x)};
-    moments_[i] = m;
-    history_length_[i] = len;
+    demod_[i] = demodulator(aovs.albedo[i]);
+    const Temporal t = temporal_pixel(previous_geometry_.empty() ? nullptr : &history, x, y, width_, height_, noisy.pixels[i],
+                                      aovs.albedo[i], aovs.emission[i], aovs.motion[i], geometry_[i],
+                                      lambda_.empty() ? nullptr : &lambda_[i], p);
+    ping_[i] = t.s;
+    moments_[i] = t.moments;
+    history_length_[i] = t.length;
   });
 }
 
@@ -207,7 +137,8 @@ void Svgf::demodulate_and_accumulate(const Image& noisy, const Aovs& aovs) {
 // kernel), a row at a time as the a-trous passes. Skipped when every pixel has 4 frames.
 void Svgf::estimate_variance() {
   bool any = false;
-  for (size_t i = 0; i < ping_.size() && !any; ++i) any = geometry_[i].id != kNoSurface && history_length_[i] < kMinHistoryForTemporalVariance;
+  for (size_t i = 0; i < ping_.size() && !any; ++i)
+    any = geometry_[i].id != kNoSurface && history_length_[i] < kMinHistoryForTemporalVariance;
   if (!any) return;
   for (size_t i = 0; i < ping_.size(); ++i) {
     plane_r_[i] = ping_[i].c.x, plane_g_[i] = ping_[i].c.y, plane_b_[i] = ping_[i].c.z, plane_l_[i] = luminance(ping_[i].c);
@@ -240,9 +171,9 @@ void Svgf::moments_row(int y) {
                         plane_var_.data() + q, plane_m2_.data() + q, plane_r_.data() + q, plane_g_.data() + q, plane_b_.data() + q};
       const CentreRow cx{c.nx + x0, c.ny + x0, c.nz + x0, c.z + x0, c.l + x0, c.ipz + x0, c.ipl + x0};
       const SumRow sums{sr + x0, sg + x0, sb + x0, s1 + x0, sw + x0};
-      const float inv_dist = 1 / std::sqrt(float(dx * dx + dy * dy));
+      const float inv_dist = tap_inv_distance(1, dx, dy);
       if (squarings_ >= 0) moment_taps_pow2(cx, m, sums, s2 + x0, x1 - x0, inv_dist, squarings_);
-      else moment_taps<-1>(cx, m, sums, s2 + x0, x1 - x0, inv_dist, o_.sigma_n);
+      else moment_taps<kPow>(cx, m, sums, s2 + x0, x1 - x0, inv_dist, o_.sigma_n);
     }
   }
   for (int x = 0; x < w; ++x) {
@@ -252,9 +183,7 @@ void Svgf::moments_row(int y) {
       pong_[i] = ping_[i];
       continue;
     }
-    const float m1 = s1[x] / sw[x], m2 = s2[x] / sw[x];
-    // Falcor: the spatial estimate boosted by 4 / h in the first frames, where it is least reliable.
-    pong_[i] = {Rgb(sr[x], sg[x], sb[x]) / sw[x], std::max(0.0f, m2 - m1 * m1) * 4 / std::max(h, 1.0f)};
+    pong_[i] = moments_result(sr[x], sg[x], sb[x], s1[x], s2[x], sw[x], h);
   }
 }
 
@@ -265,7 +194,6 @@ void Svgf::moments_row(int y) {
 // is the scalar one bit for bit). K: sigma_n = 2^K (K squarings; the default 128: 7); K < 0: pow.
 template <int K>
 void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vector<Sample>& out) const {
-  constexpr float kH[3] = {1.0f, 2.0f / 3.0f, 1.0f / 6.0f};
   const int w = width_;
   const size_t row = size_t(y) * size_t(w);
   std::vector<float> acc(size_t(w) * 8);
@@ -277,12 +205,12 @@ void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vecto
     if (qy < 0 || qy >= height_) continue;
     for (int dx = -1; dx <= 1; ++dx) {
       const int x0 = std::max(0, -dx), x1 = std::min(w, w - dx);
-      const float k = (dx == 0 ? 0.5f : 0.25f) * (dy == 0 ? 0.5f : 0.25f);
+      const float k = gaussian_weight(dx, dy);
       gaussian_tap(plane_var_.data() + size_t(qy) * size_t(w) + size_t(dx + x0), gv + x0, gw + x0, x1 - x0, k);
     }
   }
   for (int x = 0; x < w; ++x) {
-    ipl[x] = 1 / (o_.sigma_l * std::sqrt(std::max(gv[x] / gw[x], 0.0f)) + 1e-10f);
+    ipl[x] = luminance_scale(o_.sigma_l, gv[x], gw[x]);
     sr[x] = plane_r_[row + x], sg[x] = plane_g_[row + x], sb[x] = plane_b_[row + x], sv[x] = plane_var_[row + x], sw[x] = 1;
   }
   const float *cx = plane_nx_.data() + row, *cy = plane_ny_.data() + row, *cz = plane_nz_.data() + row;
@@ -297,20 +225,19 @@ void Svgf::atrous_row(int y, int step, const std::vector<Sample>& in, std::vecto
       const float *qx_ = plane_nx_.data() + q, *qy_ = plane_ny_.data() + q, *qz = plane_nz_.data() + q;
       const float *qd = plane_z_.data() + q, *ql = plane_l_.data() + q, *qv = plane_var_.data() + q;
       const float *qr = plane_r_.data() + q, *qg = plane_g_.data() + q, *qb = plane_b_.data() + q;
-      const float k = kH[std::abs(dx)] * kH[std::abs(dy)];
-      const float inv_dist = 1 / (float(step) * std::sqrt(float(dx * dx + dy * dy)));
+      const float k = b3_weight(dx, dy), inv_dist = tap_inv_distance(step, dx, dy);
       const CentreRow c{cx + x0, cy + x0, cz + x0, cd + x0, cl + x0, ipz + x0, ipl + x0};
       const TapRow t{qx_, qy_, qz, qd, ql, qv, qr, qg, qb};
       const SumRow sums{sr + x0, sg + x0, sb + x0, sv + x0, sw + x0};
       if constexpr (K >= 0)
         atrous_taps_pow2(c, t, sums, x1 - x0, k, inv_dist, K);
       else
-        atrous_taps<-1>(c, t, sums, x1 - x0, k, inv_dist, o_.sigma_n);
+        atrous_taps<kPow>(c, t, sums, x1 - x0, k, inv_dist, o_.sigma_n);
     }
   }
   for (int x = 0; x < w; ++x) {
     const size_t i = row + size_t(x);
-    out[i] = geometry_[i].id == kNoSurface ? in[i] : Sample{Rgb(sr[x], sg[x], sb[x]) / sw[x], sv[x] / (sw[x] * sw[x])};
+    out[i] = geometry_[i].id == kNoSurface ? in[i] : atrous_result(sr[x], sg[x], sb[x], sv[x], sw[x]);
   }
 }
 
@@ -332,7 +259,7 @@ void Svgf::atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int s
       case 8: atrous_row<8>(y, step, in, out); break;
       case 9: atrous_row<9>(y, step, in, out); break;
       case 10: atrous_row<10>(y, step, in, out); break;
-      default: atrous_row<-1>(y, step, in, out); break;
+      default: atrous_row<kPow>(y, step, in, out); break;
     }
   });
 }
@@ -349,14 +276,14 @@ void Svgf::denoise(const Image& noisy, const Aovs& aovs, Image& out) {
   }
   geometry_.resize(noisy.size());  // (it held the frame before last: swapped below)
   for (size_t i = 0; i < noisy.size(); ++i)
-    geometry_[i] = {aovs.normal[i], aovs.depth[i], std::max(aovs.depth_gradient[i], 1e-4f * aovs.depth[i]), aovs.surface_id[i]};
+    geometry_[i] = make_geometry(aovs.normal[i], aovs.depth[i], aovs.depth_gradient[i], aovs.surface_id[i]);
   const size_t n = noisy.size();
   for (auto* p : {&plane_nx_, &plane_ny_, &plane_nz_, &plane_z_, &plane_ipz_, &plane_r_, &plane_g_, &plane_b_, &plane_var_, &plane_l_, &plane_m2_})
     p->resize(n);
   for (size_t i = 0; i < n; ++i) {
     const Geometry& g = geometry_[i];
     plane_nx_[i] = g.n.x, plane_ny_[i] = g.n.y, plane_nz_[i] = g.n.z, plane_z_[i] = g.z;
-    plane_ipz_[i] = g.id == kNoSurface ? 0.0f : 1 / (o_.sigma_z * g.dz);
+    plane_ipz_[i] = inv_depth_scale(g, o_.sigma_z);
   }
   std::swap(previous_length_, history_length_);
   demodulate_and_accumulate(noisy, aovs);
@@ -369,7 +296,7 @@ void Svgf::denoise(const Image& noisy, const Aovs& aovs, Image& out) {
   }
   out = Image(width_, height_);
   for (size_t i = 0; i < out.size(); ++i)
-    out.pixels[i] = aovs.valid(i) ? ping_[i].c * demod_[i] + aovs.emission[i] : noisy.pixels[i];
+    out.pixels[i] = aovs.valid(i) ? remodulate(ping_[i].c, demod_[i], aovs.emission[i]) : noisy.pixels[i];
   std::swap(history_moments_, moments_);
   std::swap(previous_geometry_, geometry_);
 }

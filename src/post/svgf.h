@@ -12,54 +12,50 @@
 //      the next frame's colour history (sec. 4.3);
 //   5. re-modulate: radiance = illumination x albedo + emission.
 // Pixels without a surface (the environment) pass through unchanged. Every pixel is computed from
-// fixed inputs in a fixed order: the result does not depend on the thread count.
+// fixed inputs in a fixed order: the result does not depend on the thread count. The per-pixel math
+// is svgf_stages.h's, shared with the per-pixel stages of the BVH backends (svgf_driver.h), which
+// give the same floats.
 #pragma once
 #include <cmath>
 #include <vector>
 
 #include "frame/denoiser.h"
+#include "post/svgf_stages.h"
 
 namespace rl {
 
-class Svgf : public Denoiser {
+// What A-SVGF (asvgf.h) needs of an SVGF: Svgf here, SvgfStages<Exec> (svgf_driver.h) on the
+// BVH backends (make_denoiser picks by render.backend).
+class SvgfFilter : public Denoiser {
  public:
-  explicit Svgf(const DenoiseOptions& o)
-      : o_(o), squarings_(squarings(o.sigma_n)) {}
-  void denoise(const Image& noisy, const Aovs& aovs, Image& out) override;
   // Each pixel's history length after the last frame, in frames including it (1 = history
   // dropped or first frame): what tests read to see reprojection keep or reject history.
-  const std::vector<float>& history_length() const { return history_length_; }
+  virtual const std::vector<float>& history_length() const = 0;
   // A-SVGF (src/post/asvgf.h): per pixel, lambda in [0, 1] lifts the next frame's temporal
   // weights to (1 - lambda) alpha + lambda (Schied et al. 2018, eq. 9); empty: none.
-  void set_temporal_lambda(std::vector<float> lambda) { lambda_ = std::move(lambda); }
+  virtual void set_temporal_lambda(std::vector<float> lambda) = 0;
+};
 
-  // Demodulated illumination and its variance: what the a-trous passes filter.
-  struct Sample {
-    Rgb c;
-    float var = 0;
-  };
-  // The current frame's geometry as the edge-stopping functions read it.
-  struct Geometry {
-    Vec3 n;
-    float z = 0;
-    float dz = 0;  // max(depth_gradient, 1e-4 z): a plane facing the camera still has a scale
-    uint32_t id = kNoSurface;
-  };
+// The CPU backend's SVGF: the filter a row at a time, vectorised.
+class Svgf : public SvgfFilter {
+ public:
+  explicit Svgf(const DenoiseOptions& o)
+      : o_(o), squarings_(svgf::squarings_of(o.sigma_n)) {}
+  void denoise(const Image& noisy, const Aovs& aovs, Image& out) override;
+  const std::vector<float>& history_length() const override { return history_length_; }
+  void set_temporal_lambda(std::vector<float> lambda) override { lambda_ = std::move(lambda); }
+
+  using Sample = svgf::Sample;      // demodulated illumination and its variance
+  using Geometry = svgf::Geometry;  // the frame's geometry as the edge-stopping functions read it
 
  private:
+  struct History;
   void demodulate_and_accumulate(const Image& noisy, const Aovs& aovs);
-  bool reproject(const Aovs& aovs, int x, int y, Rgb& color, Vec2& moments, float& length) const;
   void estimate_variance();
   void moments_row(int y);
   void atrous(const std::vector<Sample>& in, std::vector<Sample>& out, int step);
   template <int K>
   void atrous_row(int y, int step, const std::vector<Sample>& in, std::vector<Sample>& out) const;
-  // K with sigma_n = 2^K, 1 <= sigma_n <= 1024 (the a-trous rows' normal weight by K squarings); else -1.
-  static int squarings(float sigma_n) {
-    for (int k = 0; k <= 10; ++k)
-      if (sigma_n == float(1 << k)) return k;
-    return -1;
-  }
 
   DenoiseOptions o_;
   int squarings_;  // sigma_n = 2^squarings_ (the normal weight by squaring), else -1: std::pow
