@@ -1,7 +1,8 @@
 // Arbitrary output variables (AOVs) of a frame: what a denoiser (src/post/) and a user's own tools
 // need beside the radiance, one array per quantity, row-major (row 0 at the top), width x height.
 // Filled by the renderer's own primary-ray pass through each pixel's centre (build_aovs) for every
-// integrator alike, so they do not depend on the integrator, its sample pattern or its seed.
+// integrator alike, so they do not depend on the integrator, its sample pattern or its seed --
+// except `emission`, which is what the frame's own camera samples saw.
 // A plain, stable API (the Python bindings read it as it is): fields are added, never renamed.
 // docs/denoise.md lists the EXR channels `restir render --aov-dir` writes from it.
 #pragma once
@@ -40,8 +41,11 @@ struct Aovs {
   // camera and, in an animated scene, the point's object motion (GMotion). 0 on the first frame,
   // where no surface, and where the point was behind the previous camera.
   std::vector<Vec2> motion;
-  // Radiance emitted toward the camera by the hit surface (GSurface::le), or the environment's
-  // radiance where the ray escaped.
+  // Radiance emitted toward the camera as the frame's primary rays saw it: the mean over the
+  // integrator's own camera samples (camera_ray: sample pattern, pixel filter, seed, render.spp) of
+  // the hit surface's emission (GSurface::le), or the environment's radiance where a ray escaped.
+  // Every integrator adds exactly this at its primary hits, so the frame minus it is reflected
+  // light only: what a denoiser demodulates (at an emitter's edge the pixel centre's emission is not).
   std::vector<Rgb> emission;
   // Which shape the primary ray hit: the mesh index, or (spheres) the mesh count + sphere index;
   // kNoSurface where it escaped. A mesh is one id (primitive ids would break at every triangle).

@@ -78,6 +78,31 @@ double rel_mse(const Image& test, const Image& ref, const std::vector<uint8_t>* 
   }, mask);
 }
 
+namespace {
+// The mean of img over block x block tiles (partial tiles at the right and bottom edges).
+Image block_means(const Image& img, int block) {
+  Image out((img.width + block - 1) / block, (img.height + block - 1) / block);
+  std::vector<double> sum(out.pixels.size() * 3, 0.0);
+  std::vector<int> count(out.pixels.size(), 0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const size_t t = size_t(y / block) * size_t(out.width) + size_t(x / block);
+      const Rgb& p = img.pixels[size_t(y) * size_t(img.width) + size_t(x)];
+      for (int c = 0; c < 3; ++c) sum[3 * t + c] += double(p[c]);
+      ++count[t];
+    }
+  for (size_t t = 0; t < out.pixels.size(); ++t)
+    for (int c = 0; c < 3; ++c) out.pixels[t][c] = float(sum[3 * t + c] / double(count[t]));
+  return out;
+}
+}  // namespace
+
+double rel_mse_lowpass(const Image& test, const Image& ref, int block, double eps) {
+  check_pair(test, ref, "rel_mse_lowpass");
+  if (block < 1) throw std::invalid_argument(fmt::format("rel_mse_lowpass: block must be >= 1, got {}", block));
+  return rel_mse(block_means(test, block), block_means(ref, block), eps);
+}
+
 double mean_abs_error(const Image& test, const Image& ref) {
   check_pair(test, ref, "mean_abs_error");
   return channel_mean(test, ref, [](double t, double r) { return std::fabs(t - r); });

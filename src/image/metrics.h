@@ -31,6 +31,14 @@ double rel_mse(const Image& test, const Image& ref, double eps = 0.01);
 // The same over the pixels where mask != 0 only (N = 3 x their count); NaN when the mask is empty.
 double rel_mse(const Image& test, const Image& ref, const std::vector<uint8_t>* mask, double eps = 0.01);
 
+// relMSE of the block means: both images averaged over block x block tiles (the last row and column of
+// tiles over the pixels they have), then rel_mse over the tile means. The part of the error that is
+// spatially correlated over `block` pixels: a spatial filter of that size (a denoiser's kernel)
+// averages white noise down by block^2 but leaves this part -- the "blotches" of correlated
+// resampling (RTXDI's documentation: temporal-only reuse "comes out blotchy after denoising").
+// block must be >= 1 (1 is rel_mse).
+double rel_mse_lowpass(const Image& test, const Image& ref, int block = 8, double eps = 0.01);
+
 // MAE = (1/N) Σ |t - r|
 double mean_abs_error(const Image& test, const Image& ref);
 

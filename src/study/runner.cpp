@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numeric>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -30,6 +32,7 @@
 #include "study/references.h"
 #include "study/report.h"
 #include "study/results.h"
+#include "study/scorer.h"
 #include "study/study_file.h"
 
 namespace rl::study {
@@ -112,15 +115,6 @@ std::string option_identity(Options o, const std::string& scene) {
   return non_default_options(o) + "scene=" + scene;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return kNone;
-  std::sort(v.begin(), v.end());
-  double pos = q * double(v.size() - 1);
-  size_t i = size_t(pos);
-  double f = pos - double(i);
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
-}
-
 class Progress {
  public:
   // On a terminal a bar redrawn in place; elsewhere (a log file, a Slurm log) one plain line per job,
@@ -161,78 +155,31 @@ void remove_stale_temp_files(const fs::path& dir) {
 std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, ReferenceCache& refs,
                          const std::string& out) {
   const Options& o = job.options;
-  std::vector<const Image*> ref_images;
-  for (const auto& r : job.refs) ref_images.push_back(&refs.get(r, sd.scene));
-  // Frame f's reference: the only one (a static camera) or its own (per-frame references).
-  auto ref_slot = [&](int frame) { return job.refs.size() == 1 ? size_t(0) : size_t(frame); };
-  auto ref_of = [&](int frame) -> const Image* { return ref_images.empty() ? nullptr : ref_images[ref_slot(frame)]; };
-  auto ref_error_of = [&](int frame) { return refs.own_error(job.refs[ref_slot(frame)].key); };  // its own relMSE
-  const bool moving = ref_images.size() > 1;
-  const auto values = option_values(o);
-  const bool per_frame = s.per_frame();
-
-  std::vector<Row> rows;
-  Image running;
-  auto base_row = [&](int frame) {
-    Row r;
-    r.id = job.id;
-    r.config = job.config_id;
-    r.scene = sd.as_written;
-    r.seed = job.seed;
-    r.frame = frame;
-    r.options = values;
-    return r;
-  };
-  std::vector<uint8_t> reflective;  // pixels of glossy/specular primary surfaces, at the last frame's camera
-  if (s.has_metric("relmse_reflective") || s.has_metric("flip_reflective"))
-    reflective = reflective_mask(sd.scene, o, camera_at(sd.scene, o, o.render.frames - 1), kReflectiveRoughness);
-  auto image_metrics = [&](Row& row, const Image& img, const Image& ref, bool last) {
-    if (s.has_metric("mse")) row.metrics["mse"] = mse(img, ref);
-    if (s.has_metric("relmse")) {
-      row.metrics["relmse"] = rel_mse(img, ref);
-      row.metrics["ref_relmse"] = ref_error_of(row.frame);
-    }
-    if (s.has_metric("flip") && last) row.metrics["flip"] = flip_metric(img, ref, o.output);
-    if (s.has_metric("relmse_reflective") && last) row.metrics["relmse_reflective"] = rel_mse(img, ref, &reflective);
-    if (s.has_metric("flip_reflective") && last) row.metrics["flip_reflective"] = flip_metric(img, ref, o.output, reflective);
-  };
-
+  std::vector<std::pair<const Image*, double>> references;
+  for (const auto& r : job.refs) references.emplace_back(&refs.get(r, sd.scene), refs.own_error(r.key));
+  RunScorer scorer(s, o, sd.scene, {job.id, job.config_id, sd.as_written, job.seed}, std::move(references));
+  // What is scored: the frame after the post-process stage when there is one (the denoiser's
+  // output against the integrator's reference), else the integrator's raw frame.
+  const bool denoised = o.denoise.method != DenoiseMethod::none;
+  double frame_ms = 0;
   RenderHooks hooks;
   hooks.on_frame = [&](int f, const Image& img, double ms) {
-    if (!per_frame) return;
-    if (running.empty()) running = Image(img.width, img.height);
-    const float w = 1.0f / float(f + 1);
-    for (size_t i = 0; i < img.size(); ++i) running.pixels[i] += (img.pixels[i] - running.pixels[i]) * w;
-    Row row = base_row(f);
-    row.metrics["ms_median"] = ms;
-    row.metrics["ms_iqr"] = 0;
-    row.metrics["fps"] = 1000.0 / ms;
-    if (const Image* ref = ref_of(f)) {
-      image_metrics(row, img, *ref, f + 1 == o.render.frames);
-      // Convergence of the running mean: meaningful for a static camera only.
-      if (!moving) row.metrics["convergence"] = rel_mse(running, *ref);
-    }
-    rows.push_back(std::move(row));
+    frame_ms = ms;  // the whole frame: the integrator, the AOVs and the denoiser (render_frame)
+    if (!denoised) scorer.frame(f, img, ms);
   };
+  if (denoised) hooks.on_denoised = [&](int f, const Image& img) { scorer.frame(f, img, frame_ms); };
   RenderResult res = render(sd.scene, o, hooks);
-  const Image* last_ref = ref_of(o.render.frames - 1);
-  if (!per_frame) {
-    Row row = base_row(o.render.frames - 1);
-    double med = percentile(res.frame_ms, 0.5);
-    row.metrics["ms_median"] = med;
-    row.metrics["ms_iqr"] = percentile(res.frame_ms, 0.75) - percentile(res.frame_ms, 0.25);
-    row.metrics["fps"] = 1000.0 / med;
-    if (last_ref) image_metrics(row, res.last, *last_ref, true);
-    rows.push_back(std::move(row));
-  }
+  const Image& final_image = denoised ? res.denoised : res.last;
+  scorer.last_frame(final_image, res.frame_ms);
+  const Image* last_ref = scorer.ref_of(o.render.frames - 1);
   // The last frame of every seed, for the noise across seeds.
-  if (s.has_metric("noise")) write_exr((fs::path(out) / "renders" / (job.id + ".exr")).string(), res.last);
+  if (s.has_metric("noise")) write_exr((fs::path(out) / "renders" / (job.id + ".exr")).string(), final_image);
   if (job.seed_index == 0) {
     const std::string prefix = (fs::path(out) / "images" / job.config_id).string();
-    write_config_images(prefix, res.last, last_ref, o.output);
+    write_config_images(prefix, final_image, last_ref, o.output);
     if (last_ref) write_config_images((fs::path(out) / "images" / ("ref-" + job.config_id)).string(), *last_ref, nullptr, o.output, false);
   }
-  return rows;
+  return std::move(scorer.rows);
 }
 
 // The jobs of a study, validated before the first render.

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "study/results.h"
@@ -174,7 +175,7 @@ void parse_common(const json& j, Study& s, const std::string& file) {
 
 const std::vector<std::string>& known_metrics() {
   static const std::vector<std::string> m = {"time", "mse", "relmse", "flip", "noise", "convergence", "relmse_reflective",
-                                             "flip_reflective"};
+                                             "flip_reflective", "relmse_lowpass", "flicker"};
   return m;
 }
 
@@ -182,12 +183,13 @@ bool Study::has_metric(const std::string& m) const { return std::find(metrics.be
 
 bool Study::needs_reference() const {
   return has_metric("mse") || has_metric("relmse") || has_metric("flip") || has_metric("convergence") ||
-         has_metric("relmse_reflective") || has_metric("flip_reflective");
+         has_metric("relmse_reflective") || has_metric("flip_reflective") || has_metric("relmse_lowpass");
 }
 
 std::vector<std::string> metric_columns(const Study& s) {
   std::vector<std::string> c = {"ms_median", "ms_iqr", "fps"};
-  for (const char* m : {"mse", "relmse", "flip", "convergence", "noise", "relmse_reflective", "flip_reflective"})
+  for (const char* m : {"mse", "relmse", "flip", "convergence", "noise", "relmse_reflective", "flip_reflective",
+                        "relmse_lowpass", "flicker"})
     if (s.has_metric(m)) c.push_back(m);
   if (s.has_metric("relmse")) c.push_back("ref_relmse");  // the reference's own error (references.h)
   return c;
@@ -286,7 +288,7 @@ Study parse_study(const std::string& text, const std::string& path, bool quick) 
       std::string name = m.is_string() ? m.get<std::string>() : "";
       const auto& km = known_metrics();
       if (std::find(km.begin(), km.end(), name) == km.end())
-        fail(path, fmt::format("unknown metric '{}' (known: time, mse, relmse, flip, noise, convergence)", m.dump()));
+        fail(path, fmt::format("unknown metric '{}' (known: {})", m.dump(), fmt::join(km, ", ")));
       s.metrics.push_back(name);
     }
   } else {

@@ -14,6 +14,7 @@
 #include "frame/aov.h"
 #include "frame/render.h"
 #include "image/image_io.h"
+#include "scene/loader.h"
 #include "test_helpers.h"
 
 using namespace rl;
@@ -136,6 +137,37 @@ Shape "trianglemesh" "point3 P" [-100 -100 10  100 -100 10  100 100 10  -100 100
       Imf::InputFile file(path.c_str());
       for (const char* ch : {"Albedo.R", "Albedo.B", "N.X", "N.Z", "Z", "dZ", "Motion.X", "Motion.Y", "Emission.G", "SurfaceId"})
         CHECK_MESSAGE(file.header().channels().findChannel(ch) != nullptr, ch);
+    }
+  }
+}
+
+TEST_SUITE("aov") {
+  TEST_CASE("emission is what the frame's own jittered camera samples saw: pt with no bounce renders exactly it") {
+    // path.max_depth 0: the path tracer adds the primary hits' emission and nothing else, so its
+    // frame is the emission AOV -- at the emitter's edges too, where the pixel centre's emission
+    // is 0 or the whole light (the partial values below show that the edges are in the test).
+    const Scene scene = load_scene(own_scene("cornell-box.pbrt"));
+    for (const char* pattern : {"render.sample_pattern=random", "render.sample_pattern=halton"}) {
+      CAPTURE(pattern);
+      Options o = options_for(scene, {"integrator=pt", "film.width=48", "film.height=48", "render.spp=3", "path.max_depth=0", pattern});
+      FrameRenderer r(scene, o);
+      r.request_aovs(true);
+      Image img;
+      const CameraKey key = scene.camera.keys.front();
+      int partial = 0;
+      for (int f = 0; f < 2; ++f) {
+        r.render_frame(key, 2, img, nullptr);
+        const Aovs& a = r.aovs();
+        float peak = 0;
+        for (const Rgb& e : a.emission) peak = std::max(peak, e.x);
+        REQUIRE(peak > 1.0f);
+        for (size_t i = 0; i < img.pixels.size(); ++i) {
+          CAPTURE(i);
+          for (int c = 0; c < 3; ++c) CHECK(img.pixels[i][c] == doctest::Approx(a.emission[i][c]).epsilon(1e-6).scale(1e-6));
+          partial += a.emission[i].x > 0.05f * peak && a.emission[i].x < 0.95f * peak;
+        }
+      }
+      CHECK(partial > 0);
     }
   }
 }

@@ -551,4 +551,31 @@ TEST_CASE("rel_mse over a mask: the mean over the masked pixels only; empty mask
   CHECK(std::isnan(rel_mse(test, ref, &none)));
   CHECK_THROWS_AS(rel_mse(test, ref, &short_mask), std::invalid_argument);
 }
+TEST_CASE("rel_mse_lowpass: a uniform offset keeps its relMSE, white noise loses block^2 of it, blotches keep theirs") {
+  const int w = 160, h = 96;  // 20 x 12 tiles of 8
+  Image ref(w, h, Rgb(0.5f));
+  Image offset = ref;
+  for (Rgb& p : offset.pixels) p = p + Rgb(0.1f);
+  CHECK(rel_mse_lowpass(offset, ref) == doctest::Approx(rel_mse(offset, ref)).epsilon(1e-5));
+  CHECK(rel_mse_lowpass(offset, ref, 1) == rel_mse(offset, ref));
+  std::mt19937 rng(17);
+  std::normal_distribution<float> n(0.0f, 0.1f);
+  Image noisy = ref, blotchy = ref;
+  for (Rgb& p : noisy.pixels) p = p + Rgb(n(rng), n(rng), n(rng));
+  // One draw per 8x8 tile: the same variance per pixel as `noisy`, correlated over the tile.
+  std::vector<Rgb> tile(20 * 12);
+  for (Rgb& t : tile) t = Rgb(n(rng), n(rng), n(rng));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) blotchy.at(x, y) = blotchy.at(x, y) + tile[size_t(y / 8) * 20 + size_t(x / 8)];
+  const double full = rel_mse(noisy, ref), low = rel_mse_lowpass(noisy, ref);
+  // 720 tile means of 64 independent pixels each: the ratio is 1/64 within sampling error (~5%).
+  CHECK(low / full == doctest::Approx(1.0 / 64).epsilon(0.15));
+  CHECK(rel_mse_lowpass(blotchy, ref) == doctest::Approx(rel_mse(blotchy, ref)).epsilon(1e-5));
+  // Partial tiles: 9 x 9 pixels, block 8 (2 x 2 tiles), each a mean over the pixels it has.
+  Image small(9, 9, Rgb(1.0f)), small_ref(9, 9, Rgb(1.0f));
+  small.at(8, 8) = Rgb(2.0f);  // the 1x1 corner tile: its mean is the pixel
+  CHECK(rel_mse_lowpass(small, small_ref) == doctest::Approx(1.0 / (1.01 * 1.01) / 4.0).epsilon(1e-6));
+  CHECK_THROWS_AS(rel_mse_lowpass(small, small_ref, 0), std::invalid_argument);
+}
+
 }  // TEST_SUITE
