@@ -27,6 +27,9 @@ enum class GiTarget { radiance, contribution };
 enum class DirectLighting { path, restir_di };
 // ReSTIR PT shift mappings (Lin et al. 2022, §5-6).
 enum class ShiftMapping { reconnection, random_replay, hybrid };
+// The hybrid shift's reconnection criterion: 2022's (both vertices rough, the segment long enough;
+// GRIS §7.2) or ReSTIR PT Enhanced's dual ray footprint (Lin, Kettunen, Wyman 2026, sec. 4, eq. 5).
+enum class Reconnection { roughness_distance, footprint };
 enum class SsrFallback { environment, none };
 // Animated scenes: which frame's scene gives the temporal history its target in the resampling
 // MIS weights (the previous frame's: unbiased, GRIS; this frame's: a named biased shortcut).
@@ -90,6 +93,10 @@ template <> struct EnumNames<ShiftMapping> {
   static constexpr std::array<std::pair<ShiftMapping, const char*>, 3> values{
       {{ShiftMapping::reconnection, "reconnection"}, {ShiftMapping::random_replay, "random-replay"},
        {ShiftMapping::hybrid, "hybrid"}}};
+};
+template <> struct EnumNames<Reconnection> {
+  static constexpr std::array<std::pair<Reconnection, const char*>, 2> values{
+      {{Reconnection::roughness_distance, "roughness-distance"}, {Reconnection::footprint, "footprint"}}};
 };
 
 template <> struct EnumNames<restir::ReuseMis> {
@@ -172,6 +179,9 @@ struct PtOptions {
   ShiftMapping shift = ShiftMapping::hybrid;
   float roughness_threshold = 0.2f;
   float distance_threshold = 0.1f;
+  Reconnection reconnection = Reconnection::roughness_distance;
+  float footprint_threshold = 0.02f;      // the paper's c (eq. 5: footprints >= c/100 x the primary footprint)
+  float footprint_min_roughness = 0.2f;   // alpha_min at x_{k-1} (sec. 4.2), GGX roughness as roughness_threshold
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
   HistoryScene history_scene = HistoryScene::previous;
@@ -307,6 +317,9 @@ void visit_options(O& o, V& v) {
   v("pt.shift", o.pt.shift, "shift mapping for path reuse: reconnect at the first secondary vertex, replay the random numbers, or replay until a rough, distant vertex pair and reconnect");
   v("pt.roughness_threshold", o.pt.roughness_threshold, "hybrid: minimum GGX roughness (sqrt(alpha_x alpha_y); diffuse = 1) of both vertices at a reconnection", Range{0, 1});
   v("pt.distance_threshold", o.pt.distance_threshold, "hybrid: minimum length of the reconnected segment, in world units", Range{0, 1e9});
+  v("pt.reconnection", o.pt.reconnection, "hybrid: reconnection criterion: both vertices rough and the segment long enough (2022), or the dual ray footprint of ReSTIR PT Enhanced (sec. 4): the segment's forward and inverse ray footprints both >= pt.footprint_threshold/100 x the primary hit's footprint, and x_{k-1} rough");
+  v("pt.footprint_threshold", o.pt.footprint_threshold, "hybrid, pt.reconnection=footprint: the paper's c (default 0.02): a vertex pair reconnects when both ray footprints are >= c/100 x the primary footprint |x1-x0|^2 4pi / |cos|", Range{0, 1e9});
+  v("pt.footprint_min_roughness", o.pt.footprint_min_roughness, "hybrid, pt.reconnection=footprint: minimum GGX roughness of x_{k-1} (the paper's single-vertex alpha_min, sec. 4.2)", Range{0, 1});
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");

@@ -91,6 +91,35 @@ TEST_SUITE("restir_pt") {
     CHECK(total.prefix_checked > 40);
   }
 
+  // The same with pt.reconnection = footprint (Lin et al. 2026, sec. 4): the offset path's own walk,
+  // judged with its own primary footprint, must choose the shifted path's k. c = 0.02 (the paper's)
+  // and c = 2 (stricter: more replayed pairs and deferred reconnections).
+  TEST_CASE("footprint criterion: a shifted path carries the reconnection index of the target pixel's own walk") {
+    ShiftCounts total;
+    for (const std::string scene : {"stripes.pbrt", "mirror-glass.pbrt", "teapot.pbrt"}) {
+      PtFixture fx(own_scene(scene));
+      for (float c : {0.02f, 2.0f}) {
+        PathSettings ps;
+        ps.path.russian_roulette = false;
+        ps.path.max_depth = 3;
+        ps.pt.reconnection = Reconnection::footprint;
+        ps.pt.footprint_threshold = c;
+        CAPTURE(scene);
+        CAPTURE(c);
+        const ShiftCounts sc = check_shifts(fx, ps, 3000);
+        MESSAGE(scene << " c " << c << ": " << sc.pure_replay << " pure-replay paths, " << sc.prefix_checked
+                      << " reconnecting ones checked, " << sc.round_trips << " round trips");
+        total.pure_replay += sc.pure_replay;
+        total.prefix_checked += sc.prefix_checked;
+        ps.path.russian_roulette = true;  // and with roulette on the vertex albedo
+        ps.path.rr_min_depth = 1;
+        CHECK(check_shifts(fx, ps, 1000).round_trips > 20);
+      }
+    }
+    CHECK(total.pure_replay > 40);
+    CHECK(total.prefix_checked > 40);
+  }
+
   TEST_CASE("Russian roulette: shifts stay invertible with reciprocal jacobians (every shift, depth 5)") {
     for (const std::string scene : {"stripes.pbrt", "mirror-glass.pbrt"}) {
       PtFixture fx(own_scene(scene));

@@ -75,6 +75,9 @@ struct PathSettings {
   // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
   // convergence harness must detect (tests/integrators/test_planted_bias.cpp). Never false in a render.
   bool check_invertibility = true;
+  // Tests only: false tests the footprint criterion (pt.reconnection = footprint) on the base path
+  // only, never on the offset path (PlantedBias::footprint_one_sided). Never false in a render.
+  bool retest_footprint = true;
 };
 PathSettings path_settings(const Options& o);
 

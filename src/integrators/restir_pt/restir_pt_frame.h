@@ -54,6 +54,7 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
   RestirPtFrame(const RenderContext& ctx, std::unique_ptr<Integrator> direct)
       : Base(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
+    if (ctx.planted && ctx.planted->footprint_one_sided) settings_.retest_footprint = false;
   }
 
   bool needs_previous_scene() const override {

@@ -12,21 +12,33 @@ namespace pt_detail {
 
 // The offset path so far: its vertex y_d, the product of its f_s|cos| before y_d, and the density
 // of its replayed directions. `pending`: the pair (y_{d-1}, y_d) passes the hybrid criterion in all
-// but y_d's own event, which the next step (or the reconnection, or the last segment) decides.
+// but y_d's own event, which the next step (or the reconnection, or the last segment) decides
+// (pending_completes); the pair's y_{d-1} normal, direction and length are kept for that.
+// `footprint`: footprint_threshold of the offset path's own primary hit y_1 (the criterion is
+// evaluated in the offset path's domain, as its own walk would: Lin et al. 2026, supplement §2).
 struct ShiftPrefix {
   Vertex v;
   Rgb beta{1};
   float pdf = 1;
   bool pending = false;
+  float footprint = 0;
+  Vec3 pending_ng{0}, pending_dir{0};
+  float pending_distance = 0;
 };
+
+// The pending pair (y_{d-1}, y_d = pre.v) given y_d's non-delta event toward b_out: reconnectable?
+RESTIR_HD inline bool pending_completes(const PathSettings& ps, const ShiftPrefix& pre, Vec3 b_out) {
+  return pre.pending && pair_completes(ps, pre.v, pre.pending_ng, pre.pending_dir, pre.pending_distance, b_out, pre.footprint);
+}
 
 // Replays the base path's directions at y_1 .. y_{last-1} with its random numbers, from pre.v = y_1
 // to pre.v = y_last. `check`: the hybrid shift's invertibility test (GRIS §7.2, eqs. 19-20): the
 // offset path must get the same reconnection index from its own walk as the base path, or the
 // inverse shift (and with it the MIS weights' partition of unity) differs, so no replayed vertex
-// pair before x_k may be reconnectable (walk.h: rough vertices, non-delta events). A pair's second
-// event is known one step later; with a BSDF that has no delta lobe it is non-delta for sure, and
-// the pair fails at once. The last pair stays in pre.pending for the caller.
+// pair before x_k may be reconnectable (walk.h: pair_opens / pair_completes, non-delta events). A
+// pair's second event (and, under the footprint criterion, its inverse footprint) is known one step
+// later; with a BSDF that has no delta lobe and no inverse footprint test the pair is reconnectable
+// for sure and fails at once. The last pair stays in pre.pending for the caller.
 template <class Tracer>
 RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, int last,
                              bool check, ShiftPrefix& pre) {
@@ -34,10 +46,13 @@ RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const
     const VertexRandoms u = vertex_randoms(base.seed, d);
     const Step st = take_step(world, tracer, ps, pre.v, u);
     if (!st.ok || !st.hit) return false;
-    if (check && pre.pending && !st.delta) return false;  // (y_{d-1}, y_d) was reconnectable
+    if (check && !st.delta && pending_completes(ps, pre, st.dir)) return false;  // (y_{d-1}, y_d) was reconnectable
     const Vertex next = vertex_from_hit(world, st.si, -st.dir);
-    pre.pending = check && !st.delta && reconnectable(ps, pre.v, next, st.distance);
-    if (pre.pending && !bsdf_has_delta(next.bsdf)) return false;
+    pre.pending = check && !st.delta && !pre.v.delta && pair_opens(ps, pre.v, next, st.dir, st.distance, pre.footprint);
+    if (pre.pending && !bsdf_has_delta(next.bsdf) && !inverse_tested(ps, next)) return false;
+    pre.pending_ng = pre.v.ng;
+    pre.pending_dir = st.dir;
+    pre.pending_distance = st.distance;
     pre.beta *= st.fcos;
     // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette()).
     const float q = roulette(ps, d, next, u);
@@ -74,9 +89,11 @@ RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const Pa
   if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
   const bool is_dir = world.lights.at_infinity(ep.emitter);
   // NEE's event is never a delta: it completes a pending pair, and (y_{n-1}, x_n) is one to test.
-  if (check && (pre.pending || emitter_reconnectable(ps, v, is_dir, is_dir ? 0.0f : length(ep.position - v.p)))) return false;
   sampled.pdf = ep.pdf;
   const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
+  if (check && (pending_completes(ps, pre, t.wi) ||
+                emitter_reconnectable(ps, v, is_dir, ep.normal, t.wi, is_dir ? 0.0f : length(ep.position - v.p), pre.footprint)))
+    return false;
   if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
   tail.f = pre.beta * t.fcos * t.emission * t.geometry;
   tail.p = pre.pdf * t.light_pdf;
@@ -91,7 +108,9 @@ RESTIR_HD bool replay_bsdf(const PathWorld& world, const Tracer& tracer, const P
   const Vertex& v = pre.v;
   const Step st = take_step(world, tracer, ps, v, u);
   if (!st.ok) return false;
-  if (check && !st.delta && (pre.pending || emitter_reconnectable(ps, v, !st.hit, st.distance))) return false;
+  if (check && !st.delta &&
+      (pending_completes(ps, pre, st.dir) || emitter_reconnectable(ps, v, !st.hit, st.hit ? st.si.ng : Vec3(0), st.dir, st.distance, pre.footprint)))
+    return false;
   float light_pdf, measure;
   Rgb le;
   if (!st.hit) {

@@ -22,7 +22,7 @@ struct Reconnected {
 
 // x_k is the emitter vertex x_n: y_{n-1} = pre.v connects to the base path's light point.
 template <class Tracer>
-RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
+RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
                                  const ShiftPrefix& pre, Reconnected& r) {
   const Vertex& v = pre.v;
   const bool is_dir = world.lights.at_infinity(base.rc_emitter);
@@ -35,7 +35,6 @@ RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, c
   const SampledEmitter kept{base.rc_tail_light_pdf, base.rc_suffix};
   const bool reuse = is_dir && world.lights.fixed;
   const Terminal t = eval_terminal(world, ps, v, base.rc_emitter, base.rc_position, base.rc_normal, reuse ? &kept : nullptr);
-  if (hybrid && !is_dir && length(base.rc_position - v.p) < ps.pt.distance_threshold) return false;
   if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
   r.f = pre.beta * t.fcos * t.emission * t.geometry;
   r.mis = strategy_weight(ps, base.nee, v.delta, t.light_pdf, t.bsdf_pdf);
@@ -45,13 +44,12 @@ RESTIR_HD bool reconnect_emitter(const PathWorld& world, const Tracer& tracer, c
 // x_k is a surface vertex (k < n): y_{k-1} = pre.v connects to it, x_k's BSDF rebuilt from what the
 // sample keeps, and the suffix after it taken as it is.
 template <class Tracer>
-RESTIR_HD bool reconnect_surface(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
+RESTIR_HD bool reconnect_surface(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
                                  const ShiftPrefix& pre, Reconnected& r) {
   const Vertex& v = pre.v;
   const Vec3 d = base.rc_position - v.p;
   const float d2 = length_squared(d);
   if (!(d2 > 0)) return false;
-  if (hybrid && std::sqrt(d2) < ps.pt.distance_threshold) return false;
   const Vec3 wi = d / std::sqrt(d2);
   if (tracer.occluded(spawn_ray_to(v.p, v.ng, base.rc_position, base.rc_normal, world.ray_epsilon))) return false;
   const Vec3 wo_l = v.frame.to_local(v.wo), wi_l = v.frame.to_local(wi);
@@ -72,20 +70,48 @@ RESTIR_HD bool reconnect_surface(const PathWorld& world, const Tracer& tracer, c
   return r.jacobian > 0;
 }
 
+// The hybrid shift's criterion on the offset path (GRIS §7.2; walk.h): the pair (y_{k-1}, x_k) must
+// be reconnectable as (x_{k-1}, x_k) was -- under the footprint criterion with y_1's threshold and
+// y_{k-1}'s own lobe density toward x_k, and x_k's inverse footprint for the new incoming direction
+// (Lin et al. 2026, sec. 4, eq. 5) -- and the pending replayed pair (y_{k-2}, y_{k-1}) must not be,
+// its event at y_{k-1} being the connection toward x_k: else the offset path's own walk would choose
+// another k and the shift would not be invertible. The direction and length are computed as the
+// walk and eval_terminal compute them (d / sqrt(d²)), so that both sides see the same bits.
+RESTIR_HD inline bool offset_reconnectable(const PathWorld& world, const PathSettings& ps, const PathSample& base, const ShiftPrefix& pre) {
+  const Vertex& v = pre.v;
+  const bool at_emitter = base.rc == base.length;
+  const bool is_dir = at_emitter && world.lights.at_infinity(base.rc_emitter);
+  Vec3 dir = base.rc_position;
+  float distance = 0;
+  if (!is_dir) {
+    const Vec3 d = base.rc_position - v.p;
+    const float d2 = length_squared(d);
+    if (!(d2 > 0)) return false;
+    distance = std::sqrt(d2);
+    dir = d / distance;
+  }
+  if (pending_completes(ps, pre, dir)) return false;
+  if (at_emitter) return emitter_reconnectable(ps, v, is_dir, base.rc_normal, dir, distance, pre.footprint);
+  if (!footprint_mode(ps)) return rough(v, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
+  Vertex xk;  // x_k as the offset path reaches it
+  xk.p = base.rc_position;
+  xk.ng = base.rc_normal;
+  xk.frame = Frame::from_normal(base.rc_shading_normal);
+  xk.wo = -dir;
+  xk.bsdf = make_bsdf(world.scene.materials[base.rc_material], base.rc_reflectance);
+  return pair_opens(ps, v, xk, dir, distance, pre.footprint) && pair_completes(ps, xk, v.ng, dir, distance, base.rc_out, pre.footprint);
+}
+
 // Reconnects y_{k-1} = pre.v to the base path's x_k; out (a copy of base) takes the offset path's
 // contribution, replayed density and x_{k-1}; jacobian = p(replayed x̄) / p(replayed ȳ) times the
-// reconnection's. `hybrid`: y_{k-1} and the reconnected segment must pass the hybrid shift's
-// criterion as x_{k-1}'s did (GRIS §7.2), or the shift is not invertible.
+// reconnection's. `hybrid`: the offset path must pass the hybrid shift's criterion
+// (offset_reconnectable), or the shift is not invertible.
 template <class Tracer>
 RESTIR_HD bool reconnect(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base, bool hybrid,
                          const ShiftPrefix& pre, PathSample& out, float& jacobian) {
-  if (pre.v.delta || (hybrid && !rough(pre.v, ps.pt.roughness_threshold))) return false;
-  // The connection y_{k-1} -> x_k is a non-delta event: a pending replayed pair (y_{k-2}, y_{k-1})
-  // is then reconnectable, and the offset path's walk would choose k - 1 (replay_prefix).
-  if (hybrid && pre.pending) return false;
+  if (pre.v.delta || (hybrid && !offset_reconnectable(world, ps, base, pre))) return false;
   Reconnected r;
-  const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, hybrid, pre, r)
-                                         : reconnect_surface(world, tracer, ps, base, hybrid, pre, r);
+  const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, pre, r) : reconnect_surface(world, tracer, ps, base, pre, r);
   if (!ok) return false;
   out.rc_previous = pre.v.p;
   return shifted(r.f * r.mis, pre.pdf, base.replay_pdf / pre.pdf * r.jacobian, out, jacobian);

@@ -73,16 +73,64 @@ RESTIR_HD inline bool rough(const Vertex& v, float threshold) { return !v.delta 
 // numbers, so the offset path's own walk gets the same answer. Single-lobe BSDFs: the event is a
 // delta exactly when the BSDF is.
 
-// The hybrid shift's reconnection criterion (GRIS §7.2; choose_reconnection): vertices a and b,
-// `distance` apart, are a reconnectable pair -- both rough, far enough apart -- when neither's event
-// is a delta (the callers check those).
-RESTIR_HD inline bool reconnectable(const PathSettings& ps, const Vertex& a, const Vertex& b, float distance) {
-  return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
+// The hybrid shift's reconnection criterion for a vertex pair a = x_{k-1}, b = x_k, `distance` apart
+// along the unit direction `dir` (a -> b), in two parts: pair_opens decides everything but b's own
+// event, pair_completes that (b's event toward `b_out`, known a step later). Neither's event may be
+// a delta (the callers check those). `thr`: the footprint threshold of the path's own primary hit
+// (footprint_threshold; 0 under roughness-distance).
+//  - pt.reconnection = roughness-distance (GRIS §7.2): both vertices rough, |x_k - x_{k-1}| >=
+//    pt.distance_threshold.
+//  - pt.reconnection = footprint (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 4, eq. 5):
+//        min( (p_{k-1}(ω_{k-1}) G(x_{k-1} -> x_k))^-1, (p_k(ω_k) G(x_k -> x_{k-1}))^-1 )
+//            >= c/100 · |x_0 - x_1|² / (<n_{x_1}, x̂_1x_0> / 4π),   and   α(x_{k-1}) >= α_min (sec. 4.2),
+//    with p_i the solid-angle density of direction sampling at x_i (given its incoming direction),
+//    G(a -> b) = |cos θ_b| / |a - b|² (the cosine at the receiving vertex, geometric normal), c =
+//    pt.footprint_threshold (0.02), α_min = pt.footprint_min_roughness. The left terms are the
+//    area a sample of the lobe at x_{k-1} represents around x_k (the forward ray footprint) and the
+//    one of x_k's lobe, traced back, around x_{k-1} (the inverse ray footprint); the right side is
+//    the area a uniform 1/(4π) lobe at the camera would represent at x_1 (the primary footprint).
+//    The inverse footprint is not tested for a diffuse or emissive x_k (fn. 6), nor the forward one
+//    for an emitter at infinity or a delta light (no area density: counting measure or direction).
+RESTIR_HD inline float primary_footprint(const GSurface& s) {
+  const float c = std::fabs(dot(s.ng, s.wo));
+  return s.depth * s.depth * (4 * kPi) / (c > 1e-6f ? c : 1e-6f);
 }
-// The same for an emitter vertex after v, reached by a non-delta event (emitters are diffuse or
-// delta: always rough; the environment and distant lights are infinitely far).
-RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, float distance) {
-  return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
+RESTIR_HD inline float footprint_threshold(const PathSettings& ps, const GSurface& s) {
+  return ps.pt.reconnection == Reconnection::footprint ? ps.pt.footprint_threshold / 100 * primary_footprint(s) : 0.0f;
+}
+// (p G)^-1 >= thr with G = cos / d², as d² >= thr p cos (no division: p cos = 0 is an infinite footprint).
+RESTIR_HD inline bool footprint_at_least(float distance, float pdf, float cos_receiver, float thr) {
+  return distance * distance >= thr * pdf * cos_receiver;
+}
+// Density of direction sampling at v toward dir (v.wo the incoming direction): the walk's st.pdf
+// before roulette, recomputed the same way wherever a criterion needs it.
+RESTIR_HD inline float pdf_toward(const PathSettings& ps, const Vertex& v, Vec3 dir) {
+  return direction_pdf(v.bsdf, ps.path.bsdf_sampling, v.frame.to_local(v.wo), v.frame.to_local(dir));
+}
+RESTIR_HD inline bool footprint_mode(const PathSettings& ps) { return ps.pt.reconnection == Reconnection::footprint; }
+// Whether pair_completes tests anything (else an open pair is reconnectable as soon as b's event is
+// not a delta).
+RESTIR_HD inline bool inverse_tested(const PathSettings& ps, const Vertex& b) {
+  return footprint_mode(ps) && b.bsdf.type != Material::Type::diffuse;
+}
+RESTIR_HD inline bool pair_opens(const PathSettings& ps, const Vertex& a, const Vertex& b, Vec3 dir, float distance, float thr) {
+  if (!footprint_mode(ps))
+    return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
+  return rough(a, ps.pt.footprint_min_roughness) && footprint_at_least(distance, pdf_toward(ps, a, dir), std::fabs(dot(b.ng, dir)), thr);
+}
+// b.wo must be -dir (the incoming direction at x_k from x_{k-1}).
+RESTIR_HD inline bool pair_completes(const PathSettings& ps, const Vertex& b, Vec3 a_ng, Vec3 dir, float distance, Vec3 b_out, float thr) {
+  if (!inverse_tested(ps, b)) return true;
+  return footprint_at_least(distance, pdf_toward(ps, b, b_out), std::fabs(dot(a_ng, dir)), thr);
+}
+// The same for an emitter vertex after v (normal: its geometric normal, zero for delta lights),
+// reached by a non-delta event (emitters are diffuse or delta: always rough, no inverse footprint;
+// the environment and distant lights are infinitely far).
+RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, Vec3 normal, Vec3 dir,
+                                            float distance, float thr) {
+  if (!footprint_mode(ps)) return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
+  return rough(v, ps.pt.footprint_min_roughness) &&
+         (is_direction || footprint_at_least(distance, pdf_toward(ps, v, dir), std::fabs(dot(normal, dir)), thr));
 }
 
 // The last segment of a path: from vertex v to an emitter point (position = direction for the
@@ -236,6 +284,7 @@ struct Walk {
   union { float pdf[kMaxVertices]; };  // density of the continuation direction at v[i]
   union { Vec3 out[kMaxVertices]; };   // continuation direction at v[i]
   union { bool delta_out[kMaxVertices]; };  // the continuation at v[i] went through a delta lobe
+  float footprint;  // footprint_threshold of the walk's primary hit x_1
   RESTIR_HD Walk() {}
 };
 
@@ -243,21 +292,27 @@ struct Walk {
 // reconnection, 0 for replay. Reconnection needs a non-delta x_1 and non-delta events at x_1 and x_2
 // (a delta cannot connect to an arbitrary x_2, nor keep x_2's outgoing direction for another
 // incoming one): such paths get k = 0 and no reconnection shift, in either direction. `last_delta`:
-// the event at x_{n-1} (false for NEE).
-RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos,
-                                         bool terminal_is_direction, bool last_delta) {
+// the event at x_{n-1} (false for NEE); `last_out` its direction (toward x_n).
+RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos, Vec3 terminal_normal,
+                                         bool terminal_is_direction, bool last_delta, Vec3 last_out) {
   auto event_delta = [&](int i) { return i == n - 1 ? last_delta : w.delta_out[size_t(i)]; };
   if (ps.pt.shift == ShiftMapping::random_replay) return 0;
   if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta || event_delta(1) || (n > 2 && event_delta(2)) ? 0 : 2;
   for (int k = 2; k <= n; ++k) {
     const Vertex& prev = w.v[size_t(k - 1)];
-    if (!rough(prev, ps.pt.roughness_threshold) || event_delta(k - 1)) continue;
+    if (prev.delta || event_delta(k - 1)) continue;
+    const Vec3 dir = k == n ? last_out : w.out[size_t(k - 1)];
     if (k == n) {  // emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far
-      if (terminal_is_direction || length(terminal_pos - prev.p) >= ps.pt.distance_threshold) return k;
+      const float distance = terminal_is_direction ? 0.0f : length(terminal_pos - prev.p);
+      if (emitter_reconnectable(ps, prev, terminal_is_direction, terminal_normal, dir, distance, w.footprint)) return k;
       continue;
     }
     const Vertex& cur = w.v[size_t(k)];
-    if (rough(cur, ps.pt.roughness_threshold) && !event_delta(k) && length(cur.p - prev.p) >= ps.pt.distance_threshold) return k;
+    if (event_delta(k)) continue;
+    const float distance = length(cur.p - prev.p);
+    const Vec3 out = k == n - 1 ? last_out : w.out[size_t(k)];
+    if (pair_opens(ps, prev, cur, dir, distance, w.footprint) && pair_completes(ps, cur, prev.ng, dir, distance, out, w.footprint))
+      return k;
   }
   return 0;
 }
@@ -269,7 +324,7 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
                                     bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float path_pdf, float mis,
                                     const Terminal& t, PathSample& s) {
   s.length = n;
-  s.rc = choose_reconnection(ps, w, n, pos, is_direction, last_delta);
+  s.rc = choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi);
   const int k = s.rc;
   if (k == 0) {
     s.replay_pdf = path_pdf;
@@ -338,6 +393,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
                          uint64_t walk_seed, Walk& w, const Offer& offer) {
   const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
   w.v[1] = vertex_from_surface(s);
+  w.footprint = footprint_threshold(ps, s);
   float pdf = 1;
   for (int d = 1; d <= max_depth; ++d) {
     const Vertex& v = w.v[size_t(d)];

@@ -35,12 +35,20 @@ bool close_rgb(Rgb a, Rgb b, float rel) {
   return true;
 }
 
+// pt.reconnection = footprint with c = footprint_c when footprint_c > 0 (else roughness-distance).
+void set_footprint(PathSettings& ps, float footprint_c) {
+  if (footprint_c <= 0) return;
+  ps.pt.reconnection = Reconnection::footprint;
+  ps.pt.footprint_threshold = footprint_c;
+}
+
 // Shifts paths between random pixel pairs and back; returns how many round trips were checked.
-int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
+int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth, float footprint_c = 0) {
   PathSettings ps;
   ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
   ps.pt.shift = shift;
   ps.path.max_depth = max_depth;
+  set_footprint(ps, footprint_c);
   Pcg32 rng(42);
   int checked = 0, identity = 0;
   for (int it = 0; it < 3000 && checked < 200; ++it) {
@@ -78,11 +86,12 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth) {
 // Checks on random pixel pairs that the two agree, for samples of both generations: an initial path
 // (its target from the walk) and a path already shifted once (its target from a shift). Returns the
 // largest relative difference seen; `checked` counts the pairs.
-float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& checked) {
+float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& checked, float footprint_c = 0) {
   PathSettings ps;
   ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
   ps.pt.shift = shift;
   ps.path.max_depth = max_depth;
+  set_footprint(ps, footprint_c);
   const PathWorld world = path_world(*fx.ctx);
   Pcg32 rng(1234);
   float worst = 0;
@@ -243,6 +252,25 @@ TEST_SUITE("restir_pt") {
     for (ShiftMapping s : {ShiftMapping::reconnection, ShiftMapping::hybrid}) {
       CAPTURE(int(s));
       CHECK(check_round_trips(fx, s, 3) > 50);
+    }
+  }
+
+  // pt.reconnection = footprint (walk.h; Lin et al. 2026, sec. 4): the hybrid shift re-tests the
+  // criterion on the offset path with its own primary footprint, so it stays invertible; c = 0.02 is
+  // the paper's, c = 2 a hundred times stricter (more pairs fail, more replay and pending pairs).
+  TEST_CASE("footprint criterion: the hybrid shift is the identity on its own pixel and invertible (Cornell box, Veach MIS, teapots)") {
+    for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"),
+                                    own_scene("teapot.pbrt")}) {
+      Fixture fx(path);
+      for (float c : {0.02f, 2.0f}) {
+        CAPTURE(path);
+        CAPTURE(c);
+        CHECK(check_round_trips(fx, ShiftMapping::hybrid, 3, c) > 20);
+        int checked = 0;
+        const float worst = stored_target_error(fx, ShiftMapping::hybrid, 4, checked, c);
+        CHECK(checked > 50);
+        CHECK(worst < 2e-5f);
+      }
     }
   }
 
