@@ -9,8 +9,8 @@
 // where the footprint test itself decides most pairs and flips between neighbouring pixels (c = 1
 // puts a diffuse pair's footprint, pi d^2 / cos, near the threshold). With the paper's c = 0.02 the
 // forward footprint of a rough lobe is far above the threshold almost everywhere, the criterion
-// reduces to the roughness at x_{k-1}, and neighbours rarely disagree: a one-sided test there biased
-// the image mean by +0.00 to +0.11% (Cornell box) and -0.6 to +0.1% (stripes), below what the
+// reduces to the roughness at x_{k-1}, and neighbours rarely disagree: a one-sided test there gave
+// image means of -0.09 to +0.11% (Cornell box) and -0.56 to +0.18% (stripes), below what the
 // harness resolves (0 of 10 detected at 300 runs on stripes). The unbiased control of the planted
 // configuration is certified in slow_equivalence_footprint.
 #include <doctest/doctest.h>
