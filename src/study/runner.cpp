@@ -156,7 +156,10 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
                          const std::string& out) {
   const Options& o = job.options;
   std::vector<std::pair<const Image*, double>> references;
-  for (const auto& r : job.refs) references.emplace_back(&refs.get(r, sd.scene), refs.own_error(r.key));
+  for (const auto& r : job.refs) {
+    const Image* image = &refs.get(r, sd.scene);  // first: loading a reference reads its own error too
+    references.emplace_back(image, refs.own_error(r.key));
+  }
   RunScorer scorer(s, o, sd.scene, {job.id, job.config_id, sd.as_written, job.seed}, std::move(references));
   // What is scored: the frame after the post-process stage when there is one (the denoiser's
   // output against the integrator's reference), else the integrator's raw frame.
