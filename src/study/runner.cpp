@@ -11,8 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <numeric>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>

@@ -2,7 +2,6 @@
 // drives it): the rows of an over-time study, or the one row of the last frame.
 #pragma once
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
