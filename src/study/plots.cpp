@@ -319,12 +319,16 @@ std::string fitted_axes(const PlotSpec& p, const std::vector<PlotSeries>& series
 
 // The plot command: each series with its error bars; on an equal-time plot, each point's tag
 // beside it in its series' colour (explicit line types, so that the tags do not shift the colours).
+// gnuplot has 8 line colours and repeats them: each further group of 8 series gets its own dash
+// pattern and point shape, so that series 9 is not drawn like series 1.
 std::string plot_command(const PlotSpec& p, const std::vector<PlotSeries>& series, bool numeric) {
   std::string cmd = "plot ", tags;
+  constexpr int kPointTypes[] = {7, 5, 9, 11};  // filled circle, square, triangle up, triangle down
   for (size_t i = 0; i < series.size(); ++i) {
-    cmd += fmt::format("{}{} index {} using 1:3:4 with {} lt {} lw 2 pt 7 title {}", i ? ", \\\n     " : "",
+    const size_t group = i / 8;
+    cmd += fmt::format("{}{} index {} using 1:3:4 with {} lt {} dt {} lw 2 pt {} title {}", i ? ", \\\n     " : "",
                        i == 0 ? gp_quote(p.name + ".dat") : std::string("\"\""), i, numeric ? "yerrorlines" : "yerrorbars",
-                       i + 1, gp_quote(series[i].label));
+                       i + 1, group + 1, kPointTypes[group % 4], gp_quote(series[i].label));
     const bool tagged = std::any_of(series[i].points.begin(), series[i].points.end(), [](const auto& pt) { return !pt.tag.empty(); });
     if (p.x_metric && tagged)
       tags += fmt::format(", \\\n     \"\" index {} using 1:3:6 with labels left offset char 0.7,0.6 tc lt {} notitle", i, i + 1);

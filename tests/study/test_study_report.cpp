@@ -236,6 +236,42 @@ TEST_SUITE("study") {
     fs::remove_all(d);
   }
 
+  TEST_CASE("plots with more than 8 series: series 9 on has its own dash pattern and point shape") {
+    const fs::path d = temp_dir("many-series");
+    Study s;
+    s.name = "t";
+    PlotSpec ps;
+    ps.name = "many";
+    ps.x = "frame";
+    ps.y = "relmse";
+    ps.series = "di.max_history";
+    s.plots = {ps};
+    std::vector<Row> rows;
+    for (int cap = 1; cap <= 10; ++cap)
+      for (int frame = 0; frame < 2; ++frame) {
+        Row r;
+        r.scene = "scenes/a.pbrt";
+        r.config = std::to_string(cap);
+        r.seed = 1;
+        r.frame = frame;
+        r.options = {{"di.max_history", std::to_string(cap)}};
+        r.metrics["relmse"] = 1.0 + 0.1 * cap + 0.01 * frame;
+        rows.push_back(r);
+      }
+    const auto results = write_plots(s, rows, d.string());
+    const std::string gp = test::read_file(d / "many.gp");
+    // gnuplot repeats its 8 colours: line types 1 and 9 share one, the dash pattern and point tell them apart.
+    CHECK(gp.find("lt 1 dt 1 lw 2 pt 7 ") != std::string::npos);
+    CHECK(gp.find("lt 8 dt 1 lw 2 pt 7 ") != std::string::npos);
+    CHECK(gp.find("lt 9 dt 2 lw 2 pt 5 ") != std::string::npos);
+    CHECK(gp.find("lt 10 dt 2 lw 2 pt 5 ") != std::string::npos);
+    if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+      REQUIRE(results.size() == 1);
+      CHECK_MESSAGE(results[0].drawn, results[0].message);  // the script is valid gnuplot
+    }
+    fs::remove_all(d);
+  }
+
   TEST_CASE("--quick on a study without a quick block is an error; nothing is written") {
     const fs::path d = temp_dir("quick");
     const std::string json = "{\"name\": \"noquick\", \"scenes\": [\"" + test::own_scene("cornell-box.pbrt") +
