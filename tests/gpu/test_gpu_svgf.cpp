@@ -10,6 +10,7 @@
 
 #include "frame/render.h"
 #include "post/svgf.h"
+#include "denoiser_frames.h"
 #include "test_helpers.h"
 
 using namespace rl;
@@ -22,10 +23,7 @@ bool svgf_dry_run() {
   return d && std::string(d) == "1";
 }
 
-struct Input {
-  Image raw, reshaded;
-  Aovs aovs;
-};
+using Input = DenoiserInput;
 
 // The Cornell box along its camera path (scenes/cornell-box.camera.json) under `settings`, on the CPU.
 std::vector<Input> cornell_frames(std::initializer_list<const char*> settings, int frames) {
@@ -33,28 +31,7 @@ std::vector<Input> cornell_frames(std::initializer_list<const char*> settings, i
   load_camera_path(own_scene("cornell-box.camera.json"), scene.camera);
   Options o = options_for(scene, {"film.width=96", "film.height=72", "render.spp=1"});
   for (const char* s : settings) set_option_assignment(o, s);
-  FrameRenderer r(scene, o);
-  r.request_aovs(true);
-  std::vector<Input> out;
-  for (int f = 0; f < frames; ++f) {
-    Input in;
-    r.render_frame(scene.camera.at_frame(f, frames), frames, in.raw, nullptr);
-    in.aovs = r.aovs();
-    in.reshaded = r.reshaded();
-    out.push_back(std::move(in));
-  }
-  return out;
-}
-
-size_t differing_floats(const Image& a, const Image& b) {
-  REQUIRE(a.size() == b.size());
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const float x = a.pixels[i][c], y = b.pixels[i][c];
-      n += std::memcmp(&x, &y, sizeof(float)) != 0;
-    }
-  return n;
+  return render_denoiser_inputs(scene, o, frames, [&](int f) { return scene.camera.at_frame(f, frames); });
 }
 
 // The frames through the CPU's denoiser (render.backend = cpu) and the device's: differing floats.

@@ -11,6 +11,7 @@
 
 #include "backends/cpu/host_exec.h"
 #include "denoise_scene.h"
+#include "denoiser_frames.h"
 #include "frame/render.h"
 #include "post/asvgf.h"
 #include "post/svgf.h"
@@ -22,39 +23,7 @@ using namespace rl::test;
 
 namespace {
 
-// How many of the two images' floats (3 a pixel) differ in any bit.
-size_t differing_floats(const Image& a, const Image& b) {
-  REQUIRE(a.width == b.width);
-  REQUIRE(a.height == b.height);
-  size_t n = 0;
-  for (size_t i = 0; i < a.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const float x = a.pixels[i][c], y = b.pixels[i][c];
-      n += std::memcmp(&x, &y, sizeof(float)) != 0;
-    }
-  return n;
-}
-
-// One frame as a denoiser sees it.
-struct Input {
-  Image raw, reshaded;
-  Aovs aovs;
-};
-
-// The frames of `scene` under `o` (its integrator), the camera at camera(f) in frame f.
-std::vector<Input> render_frames(const Scene& scene, const Options& o, int frames, const std::function<CameraKey(int)>& camera) {
-  FrameRenderer r(scene, o);
-  r.request_aovs(true);
-  std::vector<Input> out;
-  for (int f = 0; f < frames; ++f) {
-    Input fr;
-    r.render_frame(camera(f), frames, fr.raw, nullptr);
-    fr.aovs = r.aovs();
-    fr.reshaded = r.reshaded();
-    out.push_back(std::move(fr));
-  }
-  return out;
-}
+using Input = DenoiserInput;
 
 // The card scene at 1 spp, the camera moving right in uneven steps (sub-pixel and several-pixel
 // shifts, a disocclusion behind the card's edge) after two still frames.
@@ -62,7 +31,7 @@ const std::vector<Input>& card_frames() {
   static const std::vector<Input> frames = [] {
     const Scene scene = card_scene();
     const float dx[] = {0, 0, 0.05f, 0.3f, 0.5f, 0.55f, 0.55f, 0.9f};
-    return render_frames(scene, options_for(scene, {"render.spp=1", "path.max_depth=2"}), 8,
+    return render_denoiser_inputs(scene, options_for(scene, {"render.spp=1", "path.max_depth=2"}), 8,
                          [&](int f) { return card_camera(dx[f]); });
   }();
   return frames;
@@ -74,7 +43,7 @@ const std::vector<Input>& restir_di_frames() {
     Scene scene = load_scene(own_scene("cornell-box.pbrt"));
     load_camera_path(own_scene("cornell-box.camera.json"), scene.camera);
     const Options o = options_for(scene, {"integrator=restir-di", "film.width=80", "film.height=60", "render.spp=1"});
-    return render_frames(scene, o, 6, [&](int f) { return scene.camera.at_frame(f, 6); });
+    return render_denoiser_inputs(scene, o, 6, [&](int f) { return scene.camera.at_frame(f, 6); });
   }();
   return frames;
 }
@@ -188,7 +157,7 @@ TEST_SUITE("svgf_stages") {
   TEST_CASE("a-svgf over the stages equals a-svgf over Svgf (lambda from a light that switches off)") {
     const Scene scene = card_scene(CardLight::blink);
     Options o = options_for(scene, {"render.spp=1", "path.max_depth=1", "denoise.method=asvgf"});
-    const std::vector<Input> frames = render_frames(scene, o, 9, [](int) { return card_camera(0); });
+    const std::vector<Input> frames = render_denoiser_inputs(scene, o, 9, [](int) { return card_camera(0); });
     Asvgf fast(o.denoise), stages(o.denoise, std::make_unique<SvgfStages<HostExec>>(o.denoise));
     size_t differing = 0, lambda_frames = 0;
     Image a, b;

@@ -82,19 +82,26 @@ const char* kBody = R"("base": {"integrator": "pt", "film.width": 32, "film.heig
     "axes": [{"key": "denoise.method", "values": ["none", "svgf"]}], "seeds": 1, "frames": 6,
     "reference": {"spp": 16}, )";
 
+// Runs the pt study of kBody (denoise.method none and svgf) with `metrics` in a fresh folder; the
+// study file is DIR/s.json, its outputs DIR/out.
+fs::path run_denoise_study(const std::string& name, const std::string& metrics) {
+  const fs::path d = test::fresh_temp_dir(name);
+  std::ofstream(d / "s.json") << "{\"scenes\": [\"" << test::own_scene("cornell-box.pbrt") << "\"], " << kBody
+                              << "\"metrics\": " << metrics << "}";
+  StudyArgs a;
+  a.study = (d / "s.json").string();
+  a.out = (d / "out").string();
+  a.quiet = true;
+  REQUIRE(run_study(a) == 0);
+  return d;
+}
+
 }  // namespace
 
 TEST_SUITE("study") {
   TEST_CASE("a denoised configuration is scored on its denoised frames; flicker and relmse_lowpass as defined") {
-    fs::path d = test::fresh_temp_dir("study-denoise");
-    std::ofstream(d / "s.json") << "{\"scenes\": [\"" << test::own_scene("cornell-box.pbrt") << "\"], " << kBody
-                                << R"("metrics": ["time", "relmse", "relmse_lowpass", "flicker"]})";
-    StudyArgs a;
-    a.study = (d / "s.json").string();
-    a.out = (d / "out").string();
-    a.quiet = true;
-    REQUIRE(run_study(a) == 0);
-    const Study s = load_study(a.study, false);
+    const fs::path d = run_denoise_study("study-denoise", R"(["time", "relmse", "relmse_lowpass", "flicker"])");
+    const Study s = load_study((d / "s.json").string(), false);
     const Image ref = the_reference(d / "out");
     const auto rows = rows_of(d / "out/results.json");
     REQUIRE(rows.size() == 2);
@@ -122,15 +129,8 @@ TEST_SUITE("study") {
   }
 
   TEST_CASE("over time: flicker per frame from frame 1 (none at frame 0), against the previous scored frame") {
-    fs::path d = test::fresh_temp_dir("study-denoise-frames");
-    std::ofstream(d / "s.json") << "{\"scenes\": [\"" << test::own_scene("cornell-box.pbrt") << "\"], " << kBody
-                                << R"("metrics": ["relmse", "convergence", "flicker"]})";
-    StudyArgs a;
-    a.study = (d / "s.json").string();
-    a.out = (d / "out").string();
-    a.quiet = true;
-    REQUIRE(run_study(a) == 0);
-    const Study s = load_study(a.study, false);
+    const fs::path d = run_denoise_study("study-denoise-frames", R"(["relmse", "convergence", "flicker"])");
+    const Study s = load_study((d / "s.json").string(), false);
     const auto rows = rows_of(d / "out/results.json");
     REQUIRE(rows.size() == 12);
     const auto frames = scored_frames(s, config_with(s, "svgf"));
