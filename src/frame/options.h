@@ -30,6 +30,11 @@ enum class ShiftMapping { reconnection, random_replay, hybrid };
 // The hybrid shift's reconnection criterion: 2022's (both vertices rough, the segment long enough;
 // GRIS §7.2) or ReSTIR PT Enhanced's dual ray footprint (Lin, Kettunen, Wyman 2026, sec. 4, eq. 5).
 enum class Reconnection { roughness_distance, footprint };
+// ReSTIR PT's Russian roulette: part of the primary sample space, replayed by every shift
+// (survival = the vertex's albedo, which a reconnection keeps), or at initial sampling only, its
+// survival probabilities in the initial sample's source density and the shifts deterministic
+// (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 6.2.4; survival on the throughput).
+enum class Roulette { replayed, initial };
 enum class SsrFallback { environment, none };
 // Animated scenes: which frame's scene gives the temporal history its target in the resampling
 // MIS weights (the previous frame's: unbiased, GRIS; this frame's: a named biased shortcut).
@@ -97,6 +102,9 @@ template <> struct EnumNames<ShiftMapping> {
 template <> struct EnumNames<Reconnection> {
   static constexpr std::array<std::pair<Reconnection, const char*>, 2> values{
       {{Reconnection::roughness_distance, "roughness-distance"}, {Reconnection::footprint, "footprint"}}};
+};
+template <> struct EnumNames<Roulette> {
+  static constexpr std::array<std::pair<Roulette, const char*>, 2> values{{{Roulette::replayed, "replayed"}, {Roulette::initial, "initial"}}};
 };
 
 template <> struct EnumNames<restir::ReuseMis> {
@@ -182,6 +190,8 @@ struct PtOptions {
   Reconnection reconnection = Reconnection::roughness_distance;
   float footprint_threshold = 0.02f;      // the paper's c (eq. 5: footprints >= c/100 x the primary footprint)
   float footprint_min_roughness = 0.2f;   // alpha_min at x_{k-1} (sec. 4.2), GGX roughness as roughness_threshold
+  bool force_nee_reconnection = false;    // an NEE path with no earlier reconnection vertex reconnects at its light vertex (sec. 6.2.3)
+  Roulette roulette = Roulette::replayed;
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
   HistoryScene history_scene = HistoryScene::previous;
@@ -301,7 +311,7 @@ void visit_options(O& o, V& v) {
   v("path.nee", o.path.nee, "next-event estimation (light sampling) at each vertex (pt, restir-gi, restir-pt)");
   v("path.bsdf_sampling", o.path.bsdf_sampling, "importance-sample the BSDF; false: cosine hemisphere (thesis fig. 4.7; pt, restir-gi, restir-pt)");
   v("path.mis", o.path.mis, "MIS heuristic combining light and BSDF sampling in pt (restir-pt's path tags use the balance heuristic)");
-  v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette (pt: on throughput; restir-pt: on the vertex albedo, which reconnection keeps)");
+  v("path.russian_roulette", o.path.russian_roulette, "terminate paths by Russian roulette (pt: on throughput; restir-pt: see pt.roulette)");
   v("path.rr_min_depth", o.path.rr_min_depth, "first bounce at which Russian roulette may terminate", Range{1, 1024});
   v("di.light_candidates", o.di.light_candidates, "initial light-sample candidates per pixel (M)", Range{0, 4096});
   v("di.bsdf_candidates", o.di.bsdf_candidates, "initial BSDF-sample candidates per pixel, MIS-combined with the light candidates", Range{0, 256});
@@ -320,6 +330,8 @@ void visit_options(O& o, V& v) {
   v("pt.reconnection", o.pt.reconnection, "hybrid: reconnection criterion: both vertices rough and the segment long enough (2022), or the dual ray footprint of ReSTIR PT Enhanced (sec. 4): the segment's forward and inverse ray footprints both >= pt.footprint_threshold/100 x the primary hit's footprint, and x_{k-1} rough");
   v("pt.footprint_threshold", o.pt.footprint_threshold, "hybrid, pt.reconnection=footprint: the paper's c (default 0.02): a vertex pair reconnects when both ray footprints are >= c/100 x the primary footprint |x1-x0|^2 4pi / |cos|", Range{0, 1e9});
   v("pt.footprint_min_roughness", o.pt.footprint_min_roughness, "hybrid, pt.reconnection=footprint: minimum GGX roughness of x_{k-1} (the paper's single-vertex alpha_min, sec. 4.2)", Range{0, 1});
+  v("pt.force_nee_reconnection", o.pt.force_nee_reconnection, "hybrid: a path whose last vertex came from next-event estimation and that has no earlier reconnection vertex reconnects at its light vertex whatever the criterion says (ReSTIR PT Enhanced, sec. 6.2.3): a shift never replays light sampling; unbiased");
+  v("pt.roulette", o.pt.roulette, "with path.russian_roulette: replayed (part of the primary sample space: every shift replays the decisions, survival = the vertex albedo) or initial (ReSTIR PT Enhanced, sec. 6.2.4: at initial sampling only, survival = max(throughput) as pt's, its probabilities in the initial sample's source density; shifts never terminate a path); both unbiased");
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");

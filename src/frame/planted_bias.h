@@ -30,6 +30,12 @@ struct PlantedBias {
   // broken involution).
   bool pairing_one_sided = false;
   bool pairing_broken = false;
+  // pt.force_nee_reconnection: the walks force an NEE path's light vertex to be its reconnection
+  // vertex, the shifts test the offset path by the ordinary criterion (a one-sided rule).
+  bool forced_nee_one_sided = false;
+  // pt.roulette = initial: the walk's stored replay densities keep the survival probabilities
+  // (as under replayed roulette) while the shifts replay without roulette: a wrong Jacobian.
+  bool roulette_in_replay = false;
 };
 
 }  // namespace rl

@@ -45,7 +45,11 @@ ShiftCounts check_shifts(PtFixture& fx, const PathSettings& ps, int attempts) {
     float j1 = 0, j2 = 0;
     if (!shift_path(fx.world(), fx.tracer(), ps, base, b, there, j1)) continue;
     ++c.shifted;
-    const std::vector<PathSample> own = walk_paths(fx.world(), fx.tracer(), ps, b, base.seed);
+    // Under pt.roulette = initial the primary sample space has no roulette: the path is one of the
+    // walk's without roulette (with it, b's own draw may end the walk earlier).
+    PathSettings own_ps = ps;
+    if (ps.pt.roulette == Roulette::initial) own_ps.path.russian_roulette = false;
+    const std::vector<PathSample> own = walk_paths(fx.world(), fx.tracer(), own_ps, b, base.seed);
     if (base.rc == 0) {
       const PathSample* same = find_path(own, base.length, base.nee);
       REQUIRE(same != nullptr);  // replay regenerates the walk's own path
@@ -134,6 +138,66 @@ TEST_SUITE("restir_pt") {
         CHECK(check_shifts(fx, ps, 3000).round_trips > 50);
       }
     }
+  }
+
+  // ReSTIR PT Enhanced's two shift-side options (Lin, Kettunen, Wyman 2026, sec. 6.2.3-6.2.4): with
+  // roulette at initial sampling only the shifts replay without it (their densities and Jacobians
+  // roulette-free), and with forced NEE reconnection an NEE path without an earlier reconnection
+  // vertex reconnects at its light. Either way the offset path's own walk must choose the shifted
+  // path's k and the round trip must give reciprocal Jacobians; stripes and mirror-glass alternate
+  // rough, glossy and delta surfaces, so the forced rule and the criterion disagree often there.
+  TEST_CASE("roulette at initial sampling only, forced NEE reconnection: shifts stay invertible, k as the own walk's") {
+    ShiftCounts total;
+    int forced = 0;
+    for (const std::string scene : {"stripes.pbrt", "mirror-glass.pbrt"}) {
+      PtFixture fx(own_scene(scene));
+      for (int variant = 0; variant < 3; ++variant) {
+        PathSettings ps;
+        ps.path.max_depth = 5;
+        ps.path.russian_roulette = variant != 1;
+        ps.path.rr_min_depth = 1;
+        ps.pt.roulette = Roulette::initial;
+        ps.pt.force_nee_reconnection = variant >= 1;
+        CAPTURE(scene);
+        CAPTURE(variant);
+        const ShiftCounts c = check_shifts(fx, ps, 3000);
+        CHECK(c.round_trips > 50);
+        total.pure_replay += c.pure_replay;
+        total.prefix_checked += c.prefix_checked;
+        if (variant == 0) {  // initial roulette with the random-replay shift: whole paths replayed without roulette
+          ps.pt.shift = ShiftMapping::random_replay;
+          CHECK(check_shifts(fx, ps, 2000).round_trips > 50);
+        }
+      }
+      // Forced: no NEE path the walks offer replays whole, and some reconnect at a light vertex
+      // whose x_{n-1} the roughness-distance criterion refuses.
+      PathSettings ps;
+      ps.path.max_depth = 3;
+      ps.path.russian_roulette = false;
+      ps.pt.force_nee_reconnection = true;
+      PathSettings plain = ps;
+      plain.pt.force_nee_reconnection = false;
+      Pcg32 rng(77);
+      for (int it = 0; it < 400; ++it) {
+        const GSurface& a = fx.random_surface(rng);
+        const uint32_t seed = rng.next_u32();
+        if (!a.valid) continue;
+        const std::vector<PathSample> paths = walk_paths(fx.world(), fx.tracer(), ps, a, seed);
+        const std::vector<PathSample> criterion = walk_paths(fx.world(), fx.tracer(), plain, a, seed);
+        REQUIRE(paths.size() == criterion.size());
+        for (size_t i = 0; i < paths.size(); ++i) {
+          if (!paths[i].nee) continue;
+          CHECK(paths[i].rc != 0);
+          if (criterion[i].rc == 0) ++forced;
+          if (criterion[i].rc != 0) CHECK(paths[i].rc == criterion[i].rc);
+        }
+      }
+    }
+    MESSAGE(total.pure_replay << " pure-replay paths, " << total.prefix_checked << " reconnecting ones checked, " << forced
+                              << " NEE paths reconnected by force");
+    CHECK(total.pure_replay > 40);
+    CHECK(total.prefix_checked > 40);
+    CHECK(forced > 20);
   }
 
   TEST_CASE("Russian roulette: survival follows the vertex albedo") {

@@ -78,10 +78,17 @@ struct PathSettings {
   // Tests only: false tests the footprint criterion (pt.reconnection = footprint) on the base path
   // only, never on the offset path (PlantedBias::footprint_one_sided). Never false in a render.
   bool retest_footprint = true;
+  // Tests only: false applies pt.force_nee_reconnection in the walks (the base path's choice of x_k)
+  // but not in the shifts' criterion on the offset path (PlantedBias::forced_nee_one_sided).
+  bool retest_forced_nee = true;
+  // Tests only: true keeps roulette's survival probabilities in the densities a shift replays under
+  // pt.roulette = initial, whose shifts replay without roulette (PlantedBias::roulette_in_replay).
+  bool roulette_in_replay = false;
 };
 PathSettings path_settings(const Options& o);
 
-// Russian roulette's survival probability after reaching a vertex with this BSDF: its albedo
+// Russian roulette's survival probability after reaching a vertex with this BSDF (pt.roulette =
+// replayed): its albedo
 // (max component; 1 for dielectrics; about F0 + (1 - F0) R for coated diffuse). A property of the vertex alone, so that reconnection shifts,
 // which keep the suffix's vertices, keep its roulette decisions too (see pt_path.cpp).
 RESTIR_HD inline float roulette_survival(const Bsdf& b) {

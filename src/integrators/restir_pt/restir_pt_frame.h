@@ -55,6 +55,8 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
       : Base(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
     if (ctx.planted && ctx.planted->footprint_one_sided) settings_.retest_footprint = false;
+    if (ctx.planted && ctx.planted->forced_nee_one_sided) settings_.retest_forced_nee = false;
+    if (ctx.planted && ctx.planted->roulette_in_replay) settings_.roulette_in_replay = true;
   }
 
   bool needs_previous_scene() const override {

@@ -54,8 +54,9 @@ RESTIR_HD bool replay_prefix(const PathWorld& world, const Tracer& tracer, const
     pre.pending_dir = st.dir;
     pre.pending_distance = st.distance;
     pre.beta *= st.fcos;
-    // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette()).
-    const float q = roulette(ps, d, next, u);
+    // The roulette decision that let the base path reach its vertex d + 1, replayed (see roulette();
+    // none under pt.roulette = initial).
+    const float q = replayed_roulette(ps, d, next, u);
     if (!(q > 0)) return false;
     pre.pdf *= st.pdf * q;
     pre.v = next;
@@ -92,7 +93,8 @@ RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const Pa
   sampled.pdf = ep.pdf;
   const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
   if (check && (pending_completes(ps, pre, t.wi) ||
-                emitter_reconnectable(ps, v, is_dir, ep.normal, t.wi, is_dir ? 0.0f : length(ep.position - v.p), pre.footprint)))
+                emitter_reconnectable(ps, v, is_dir, ep.normal, t.wi, is_dir ? 0.0f : length(ep.position - v.p), pre.footprint,
+                                      ps.retest_forced_nee)))
     return false;
   if (is_black(t.fcos * t.emission) || tracer.occluded(t.shadow)) return false;
   tail.f = pre.beta * t.fcos * t.emission * t.geometry;
@@ -109,7 +111,8 @@ RESTIR_HD bool replay_bsdf(const PathWorld& world, const Tracer& tracer, const P
   const Step st = take_step(world, tracer, ps, v, u);
   if (!st.ok) return false;
   if (check && !st.delta &&
-      (pending_completes(ps, pre, st.dir) || emitter_reconnectable(ps, v, !st.hit, st.hit ? st.si.ng : Vec3(0), st.dir, st.distance, pre.footprint)))
+      (pending_completes(ps, pre, st.dir) ||
+       emitter_reconnectable(ps, v, !st.hit, st.hit ? st.si.ng : Vec3(0), st.dir, st.distance, pre.footprint, false)))
     return false;
   float light_pdf, measure;
   Rgb le;

@@ -126,8 +126,14 @@ RESTIR_HD inline bool pair_completes(const PathSettings& ps, const Vertex& b, Ve
 // The same for an emitter vertex after v (normal: its geometric normal, zero for delta lights),
 // reached by a non-delta event (emitters are diffuse or delta: always rough, no inverse footprint;
 // the environment and distant lights are infinitely far).
+// `nee`: the emitter was drawn by next-event estimation; under pt.force_nee_reconnection such a
+// light vertex is always reconnectable from a non-delta x_{n-1} (ReSTIR PT Enhanced, sec. 6.2.3:
+// "the NEE light vertex is forced to be the reconnection vertex if no earlier one exists"). The
+// rule reads the path's strategy tag, which every shift keeps, so the offset path's own walk
+// decides the same (PathSettings::force_nee_one_sided plants the bias of a base-only rule).
 RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, Vec3 normal, Vec3 dir,
-                                            float distance, float thr) {
+                                            float distance, float thr, bool nee) {
+  if (nee && ps.pt.force_nee_reconnection) return true;
   if (!footprint_mode(ps)) return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
   return rough(v, ps.pt.footprint_min_roughness) &&
          (is_direction || footprint_at_least(distance, pdf_toward(ps, v, dir), std::fabs(dot(normal, dir)), thr));
@@ -294,7 +300,7 @@ struct Walk {
 // incoming one): such paths get k = 0 and no reconnection shift, in either direction. `last_delta`:
 // the event at x_{n-1} (false for NEE); `last_out` its direction (toward x_n).
 RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos, Vec3 terminal_normal,
-                                         bool terminal_is_direction, bool last_delta, Vec3 last_out) {
+                                         bool terminal_is_direction, bool last_delta, Vec3 last_out, bool nee) {
   auto event_delta = [&](int i) { return i == n - 1 ? last_delta : w.delta_out[size_t(i)]; };
   if (ps.pt.shift == ShiftMapping::random_replay) return 0;
   if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta || event_delta(1) || (n > 2 && event_delta(2)) ? 0 : 2;
@@ -304,7 +310,7 @@ RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, 
     const Vec3 dir = k == n ? last_out : w.out[size_t(k - 1)];
     if (k == n) {  // emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far
       const float distance = terminal_is_direction ? 0.0f : length(terminal_pos - prev.p);
-      if (emitter_reconnectable(ps, prev, terminal_is_direction, terminal_normal, dir, distance, w.footprint)) return k;
+      if (emitter_reconnectable(ps, prev, terminal_is_direction, terminal_normal, dir, distance, w.footprint, nee)) return k;
       continue;
     }
     const Vertex& cur = w.v[size_t(k)];
@@ -317,17 +323,18 @@ RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, 
   return 0;
 }
 
-// Fills the reconnection / replay description of path (x_1..x_n) of walk w. `last_fcos` is the
-// f_s|cos| of the final segment, `tail` = Le G, `path_pdf` the full path density (own measure),
-// `mis` its strategy weight, `t` the terminal (for k = n - 1).
+// Fills the reconnection / replay description of path (x_1..x_n) of walk w (s.nee set). `last_fcos`
+// is the f_s|cos| of the final segment, `tail` = Le G, `replay_pdf` the path density a shift's
+// replay sees (own measure; the roulette's only under pt.roulette = replayed), `mis` its strategy
+// weight, `t` the terminal (for k = n - 1).
 RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal,
-                                    bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float path_pdf, float mis,
+                                    bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float replay_pdf, float mis,
                                     const Terminal& t, PathSample& s) {
   s.length = n;
-  s.rc = choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi);
+  s.rc = choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi, s.nee);
   const int k = s.rc;
   if (k == 0) {
-    s.replay_pdf = path_pdf;
+    s.replay_pdf = replay_pdf;
     return;
   }
   s.rc_previous = w.v[size_t(k - 1)].p;
@@ -369,21 +376,34 @@ struct OfferedPath {
   bool last_delta;      // the final segment went through a delta lobe (never for NEE)
   Rgb last_fcos, tail;  // f_s|cos| of the final segment; Le G
   float path_pdf, mis;  // full path density (own measure, Russian roulette included); m_t
+  float replay_pdf;     // the same without roulette under pt.roulette = initial (what shifts replay)
   const Terminal* terminal;
 };
 
 // Russian roulette after the step that reached vertex `next` (deciding whether the walk goes on
-// from it). The survival probability is the next vertex's albedo, a property of that vertex alone:
-// a reconnection shift keeps x_k and everything after it, so the suffix's decisions (same random
-// numbers, same probabilities) are identical in the base and the offset path and cancel, while the
-// replayed prefix's probabilities enter its pdf and hence the Jacobian (GRIS §6.1: the map is the
-// identity in primary sample space, including the roulette numbers). A throughput-based
-// probability would change along a reconnected suffix and make the shift non-invertible.
-// Returns the survival probability (0 = terminated).
-RESTIR_HD inline float roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u) {
+// from it). Returns the survival probability (0 = terminated).
+//  - pt.roulette = replayed: part of the primary sample space, replayed by every shift. The survival
+//    probability is the next vertex's albedo, a property of that vertex alone: a reconnection shift
+//    keeps x_k and everything after it, so the suffix's decisions (same random numbers, same
+//    probabilities) are identical in the base and the offset path and cancel, while the replayed
+//    prefix's probabilities enter its pdf and hence the Jacobian (GRIS §6.1: the map is the
+//    identity in primary sample space, including the roulette numbers). A throughput-based
+//    probability would change along a reconnected suffix and make the shift non-invertible.
+//  - pt.roulette = initial (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 6.2.4; supplement
+//    §6): the primary sample space has no roulette dimensions; roulette only decides which paths
+//    the initial walk offers, so a path of n vertices is a candidate with density p(x̄) Π q_i, the
+//    q_i any function of the path's own prefix (here pbrt-v4's: max component of the throughput
+//    `beta`, roulette divided out as in path_pixel.h). The initial RIS weight divides by it; the
+//    shifts replay without roulette and their Jacobians are ratios of roulette-free densities.
+RESTIR_HD inline float roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u, Rgb beta) {
   if (!ps.path.russian_roulette || d < ps.path.rr_min_depth) return 1.0f;
-  const float q = roulette_survival(next.bsdf);
+  const float m = max_component(beta);
+  const float q = ps.pt.roulette == Roulette::initial ? (m < 1 ? m : 1.0f) : roulette_survival(next.bsdf);
   return u.roulette < q ? q : 0.0f;
+}
+// The roulette a shift replays at the same step (none under pt.roulette = initial).
+RESTIR_HD inline float replayed_roulette(const PathSettings& ps, int d, const Vertex& next, const VertexRandoms& u) {
+  return ps.pt.roulette == Roulette::replayed ? roulette(ps, d, next, u, Rgb(1)) : 1.0f;
 }
 
 // One walk from the primary surface s with the random streams of walk_seed; calls
@@ -394,7 +414,9 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
   const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
   w.v[1] = vertex_from_surface(s);
   w.footprint = footprint_threshold(ps, s);
-  float pdf = 1;
+  float pdf = 1;     // density of the walk's prefix, roulette included (the initial RIS weights')
+  float replay = 1;  // the same as a shift replays it (roulette only under pt.roulette = replayed)
+  Rgb beta(1);       // throughput, roulette divided out (pt.roulette = initial's survival)
   for (int d = 1; d <= max_depth; ++d) {
     const Vertex& v = w.v[size_t(d)];
     const VertexRandoms u = vertex_randoms(walk_seed, d);
@@ -409,7 +431,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
           const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
           offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, false, t.fcos, t.emission * t.geometry,
-                            pdf * t.light_pdf, mis, &t});
+                            pdf * t.light_pdf, mis, replay * t.light_pdf, &t});
         }
       }
     }
@@ -430,7 +452,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         t.measure = 1;
         t.bsdf_pdf = st.delta ? 0.0f : st.pdf;
         const float mis = strategy_weight(ps, false, v.delta || st.delta, t.light_pdf, t.bsdf_pdf);
-        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.delta, st.fcos, env.radiance, pdf * st.pdf, mis, &t});
+        offer(OfferedPath{d + 1, false, e, st.dir, Vec3(0), true, st.delta, st.fcos, env.radiance, pdf * st.pdf, mis, replay * st.pdf, &t});
       }
       break;
     }
@@ -445,17 +467,24 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
         t.light_pdf = world.lights.point_pdf(e, si.p);
         t.bsdf_pdf = st.delta ? 0.0f : st.pdf * t.measure;
         const float mis = strategy_weight(ps, false, v.delta || st.delta, t.light_pdf, t.bsdf_pdf);
-        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.delta, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis, &t});
+        offer(OfferedPath{d + 1, false, e, si.p, si.ng, false, st.delta, st.fcos, le * t.measure, pdf * st.pdf * t.measure, mis,
+                          replay * st.pdf * t.measure, &t});
       }
     }
     if (d == max_depth) break;
     w.v[size_t(d + 1)] = vertex_from_hit(world, si, -st.dir);
-    const float q = roulette(ps, d, w.v[size_t(d + 1)], u);
+    beta *= st.fcos / st.pdf;
+    const float q = roulette(ps, d, w.v[size_t(d + 1)], u, beta);
     if (!(q > 0)) break;
-    // The survival probability is part of the continuation's density: every stored pdf (the
-    // replayed prefix's included) carries it, as the shifted paths' do.
-    w.pdf[size_t(d)] *= q;
-    pdf *= w.pdf[size_t(d)];
+    beta /= q;
+    // The survival probability is part of the continuation's density. Replayed roulette: every
+    // stored pdf (the replayed prefix's included) carries it, as the shifted paths' do. Initial
+    // roulette: only the candidate's density `pdf` does (a planted bias of the tests,
+    // PathSettings::roulette_in_replay, leaves it in the stored ones too).
+    const bool stored = ps.pt.roulette == Roulette::replayed || ps.roulette_in_replay;
+    pdf *= w.pdf[size_t(d)] * q;
+    if (stored) w.pdf[size_t(d)] *= q;
+    replay *= w.pdf[size_t(d)];
   }
 }
 
@@ -472,7 +501,7 @@ RESTIR_HD inline PathSample describe_offered(const PathSettings& ps, const Walk&
   x.seed = walk_seed;
   x.nee = o.nee_tag;
   x.contribution = offered_contribution(w, o);
-  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_delta, o.last_fcos, o.tail, o.path_pdf, o.mis,
+  describe_path(ps, w, o.n, o.emitter, o.pos, o.normal, o.is_direction, o.last_delta, o.last_fcos, o.tail, o.replay_pdf, o.mis,
                 *o.terminal, x);
   return x;
 }

@@ -93,11 +93,11 @@ TEST_SUITE("restir_pt_footprint") {
     // Emitters: at infinity only the roughness counts; an area emitter's forward footprint is tested.
     ps.pt.footprint_min_roughness = 0.2f;
     const Vertex a = vertex(Vec3(0), up, up, diffuse());
-    CHECK(emitter_reconnectable(ps, a, true, Vec3(0), up, 0, 1e30f));
-    CHECK_FALSE(emitter_reconnectable(ps, vertex(Vec3(0), up, up, conductor(0.1f)), true, Vec3(0), up, 0, 0));
-    CHECK(emitter_reconnectable(ps, a, false, Vec3(0, 0, -1), up, 2.1f, 4 * kPi));
-    CHECK_FALSE(emitter_reconnectable(ps, a, false, Vec3(0, 0, -1), up, 1.9f, 4 * kPi));
-    CHECK(emitter_reconnectable(ps, a, false, Vec3(0), up, 0.01f, 4 * kPi));  // a point light: no area density
+    CHECK(emitter_reconnectable(ps, a, true, Vec3(0), up, 0, 1e30f, false));
+    CHECK_FALSE(emitter_reconnectable(ps, vertex(Vec3(0), up, up, conductor(0.1f)), true, Vec3(0), up, 0, 0, false));
+    CHECK(emitter_reconnectable(ps, a, false, Vec3(0, 0, -1), up, 2.1f, 4 * kPi, false));
+    CHECK_FALSE(emitter_reconnectable(ps, a, false, Vec3(0, 0, -1), up, 1.9f, 4 * kPi, false));
+    CHECK(emitter_reconnectable(ps, a, false, Vec3(0), up, 0.01f, 4 * kPi, false));  // a point light: no area density
   }
 
   TEST_CASE("inverse ray footprint: a GGX lobe at normal incidence, p = D(n)/4 = 1/(4 pi alpha^2)") {

@@ -86,12 +86,14 @@ int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth, float foot
 // Checks on random pixel pairs that the two agree, for samples of both generations: an initial path
 // (its target from the walk) and a path already shifted once (its target from a shift). Returns the
 // largest relative difference seen; `checked` counts the pairs.
-float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& checked, float footprint_c = 0) {
+float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& checked, float footprint_c = 0,
+                          void (*tweak)(PathSettings&) = nullptr) {
   PathSettings ps;
   ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
   ps.pt.shift = shift;
   ps.path.max_depth = max_depth;
   set_footprint(ps, footprint_c);
+  if (tweak) tweak(ps);
   const PathWorld world = path_world(*fx.ctx);
   Pcg32 rng(1234);
   float worst = 0;
@@ -268,6 +270,28 @@ TEST_SUITE("restir_pt") {
         CHECK(check_round_trips(fx, ShiftMapping::hybrid, 3, c) > 20);
         int checked = 0;
         const float worst = stored_target_error(fx, ShiftMapping::hybrid, 4, checked, c);
+        CHECK(checked > 50);
+        CHECK(worst < 2e-5f);
+      }
+    }
+  }
+
+  // ReSTIR PT Enhanced's roulette at initial sampling only and forced NEE reconnection (sec.
+  // 6.2.3-6.2.4): the shifts stay bijections, so a stored target over the Jacobian is still the
+  // target shifted back.
+  TEST_CASE("initial-only roulette, forced NEE reconnection: a stored target over the jacobian is the target shifted back") {
+    for (const std::string& path : {shared_scene("veach-mis/scene-v4.pbrt"), own_scene("teapot.pbrt")}) {
+      Fixture fx(path);
+      for (ShiftMapping s : {ShiftMapping::random_replay, ShiftMapping::hybrid}) {
+        CAPTURE(path);
+        CAPTURE(int(s));
+        int checked = 0;
+        const float worst = stored_target_error(fx, s, 5, checked, 0, [](PathSettings& ps) {
+          ps.path.russian_roulette = true;
+          ps.path.rr_min_depth = 1;
+          ps.pt.roulette = Roulette::initial;
+          ps.pt.force_nee_reconnection = true;
+        });
         CHECK(checked > 50);
         CHECK(worst < 2e-5f);
       }
