@@ -223,6 +223,10 @@ void validate_options(const Options& o) {
     throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
                                   enum_name(o.render.backend)));
   check_paired_reuse(o);
+  // RGB weights sum m_i F W J over the inputs: the MIS weights must be inside the w_i (mis.h).
+  if (o.integrator == "restir-pt" && o.pt.rgb_weights && o.pt.reuse.spatial_mis == restir::ReuseMis::one_over_z)
+    throw OptionError("pt.rgb_weights = true: needs pt.spatial_mis = pairwise, generalized-balance or constant (1/Z normalizes "
+                      "the selected path alone, so the inputs' colours have no weights to sum)");
   if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)
     throw OptionError(fmt::format("denoise.oidn_library is read only by denoise.method = oidn (not {})", enum_name(o.denoise.method)));
   check_option_groups(o);

@@ -76,7 +76,7 @@ struct PairedRound {
 // shifts[p * k + t] (a pixel's k slots side by side: pass 2 reads its own in one cache line).
 template <class Res, class MakeBridge>
 RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
-                                  const MakeBridge& make_bridge, const PairedRound& pr, int x, int y) {
+                                  const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, const ReuseColor& color = {}) {
   const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
   const GSurface& own = g.at(x, y);
   const Res& r = reservoirs[p];
@@ -93,6 +93,9 @@ RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, 
     if (!bridge.shift_to_canonical(1, r.sample, shifted, jacobian)) continue;
     out.target = bridge.target_from(0, shifted);
     out.jacobian = jacobian > 0 ? jacobian : 0.0f;
+    if constexpr (requires { bridge.color(shifted); }) {
+      if (color.shifts) color.shifts[p * k + size_t(t)] = bridge.color(shifted);
+    }
   }
 }
 
@@ -143,10 +146,11 @@ RESTIR_HD int paired_inputs(const ReuseOptions& rp, const GBufferView& g, const 
 template <class Res, class MakeBridge>
 RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, const PairedShift* shifts,
                                      Res* next, const MakeBridge& make_bridge, const PairedRound& pr, const ReuseDebugView& dbg, int x,
-                                     int y) {
+                                     int y, const ReuseColor& color = {}) {
   const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
   const GSurface& cur = g.at(x, y);
   next[p] = reservoirs[p];
+  if (color.out) color.out[p] = Rgb(0);
   if (!cur.valid) return;
   PairedInputs<Res> in_;
   const int n = paired_inputs(rp, g, reservoirs, shifts, pr, dbg, x, y, in_);
@@ -197,8 +201,12 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
       }
       m = restir::detail::pairwise_neighbor_weight(in.confidence, m_sum, m_rest, own_target, m_c, s.target);
     }
-    if (restir::stream(out, in.sample, s.target, restir::resampling_weight(m, s.target, in.ucw, s.jacobian), rng.next_float()))
-      selected = i;
+    const float w = restir::resampling_weight(m, s.target, in.ucw, s.jacobian);
+    if constexpr (requires { bridge.color(in.sample); }) {  // RGB weights: as restir::combine's (mis.h)
+      const float pt = color.planted_input_target ? in.target : s.target;
+      if (color.out && w > 0 && pt > 0) color.out[p] += (i == 0 ? bridge.color(in.sample) : color.shifts[at[i] * k + size_t(slot[i])]) * (w / pt);
+    }
+    if (restir::stream(out, in.sample, s.target, w, rng.next_float())) selected = i;
   }
   // The selected neighbour's sample as this pixel sees it: shifted once, here (the target is the
   // partner's pass-1 value, the same shift).

@@ -42,7 +42,8 @@ struct SpatialStage {
   ReuseFrame f;
   int round;
   ReuseDebugView dbg;
-  RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y); }
+  ReuseColor color;
+  RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y, color); }
 };
 
 // Paired spatial reuse (paired_reuse.h): pass 1, each pixel's sample shifted to its partners.
@@ -54,7 +55,8 @@ struct PairedShiftStage {
   const Res* reservoirs;
   PairedShift* shifts;
   PairedRound round;
-  RESTIR_HD void operator()(int x, int y) const { paired_shift_pixel(rp, g, reservoirs, shifts, bridges, round, x, y); }
+  ReuseColor color;
+  RESTIR_HD void operator()(int x, int y) const { paired_shift_pixel(rp, g, reservoirs, shifts, bridges, round, x, y, color); }
 };
 
 // Pass 2: each pixel's reservoir combined with its partners' from the shifts of pass 1.
@@ -68,8 +70,9 @@ struct PairedResampleStage {
   Res* next;
   PairedRound round;
   ReuseDebugView dbg;
+  ReuseColor color;
   RESTIR_HD void operator()(int x, int y) const {
-    paired_resample_pixel(rp, g, reservoirs, shifts, next, bridges, round, dbg, x, y);
+    paired_resample_pixel(rp, g, reservoirs, shifts, next, bridges, round, dbg, x, y, color);
   }
 };
 
@@ -210,6 +213,10 @@ struct ReservoirChain {
   Array<uint64_t> duplicate_keys;
   Array<float> history_caps;  // the duplication map's M-caps of this frame's pixels, read by the next frame's temporal pass
   bool has_history_caps = false;
+  // RGB resampling weights (pt.rgb_weights): the last spatial round's shading colour per pixel
+  // (reuse_pixel.h's ReuseColor), and paired reuse's F per pass-1 shift.
+  Array<Rgb> colors, shift_colors;
+  bool has_colors = false;
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
 
@@ -256,10 +263,18 @@ struct ReservoirChain {
 
   // Temporal reuse (when there is a compatible history), then the spatial rounds; bridges(surfaces,
   // n, temporal) makes a pixel's bridge (mis.h). planted: tests only (planted_bias.h).
+  // rgb_weights: the spatial rounds also write each pixel's shading colour (colors, has_colors).
   template <class Bridges>
   void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f,
-             const PlantedBias* planted = nullptr) {
+             const PlantedBias* planted = nullptr, bool rgb_weights = false) {
     using namespace chain_detail;
+    has_colors = rgb_weights && rp.spatial_neighbors > 0 && rp.spatial_rounds > 0;
+    ReuseColor color;
+    if (has_colors) {
+      colors.reserve(size_t(width) * size_t(height));
+      color.out = colors.data;
+      color.planted_input_target = planted && planted->color_input_target;
+    }
     if (rp.temporal && has_history && previous_width == width && previous_height == height) {
       StageTimer timer(frame.stages, "temporal");
       const PerspectiveCamera& previous_camera = frame.previous_camera ? *frame.previous_camera : *frame.camera;
@@ -275,10 +290,10 @@ struct ReservoirChain {
     {
       StageTimer timer(frame.stages, "spatial");
       if (rp.spatial_pairing == SpatialPairing::paired) {
-        paired_rounds(rp, bridges, f, planted);
+        paired_rounds(rp, bridges, f, planted, color);
       } else {
         for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
-          const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug()};
+          const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug(), color};
           Exec::for_pixels(width, height, stage, "spatial reuse");
           reservoirs.swap(scratch);
         }
@@ -316,10 +331,14 @@ struct ReservoirChain {
   // The spatial rounds of paired reuse (paired_reuse.h): per round, the shift pass, then the
   // resampling pass.
   template <class Bridges>
-  void paired_rounds(const ReuseOptions& rp, const Bridges& bridges, const ReuseFrame& f, const PlantedBias* planted) {
+  void paired_rounds(const ReuseOptions& rp, const Bridges& bridges, const ReuseFrame& f, const PlantedBias* planted, ReuseColor color) {
     using namespace chain_detail;
     const int k = std::min(rp.spatial_neighbors, PairingView::kMaxTextures);
     if (k <= 0 || rp.spatial_rounds <= 0) return;
+    if (color.out) {
+      shift_colors.reserve(size_t(k) * size_t(width) * size_t(height));
+      color.shifts = shift_colors.data;
+    }
     pairing.prepare(k, rp.spatial_radius);
     const PairingView view{Exec::mirror(pairing_offsets, pairing.offsets().data(), pairing.offsets().size()),
                            Exec::mirror(pairing_first, pairing.first().data(), pairing.first().size()),
@@ -330,11 +349,12 @@ struct ReservoirChain {
       for (int t = 0; t < k; ++t) host_transforms[size_t(t)] = PairingView::transform(t, pairing.sizes()[size_t(t)], f.frame, f.seed, f.chain, round);
       const PairingTransform* transforms = Exec::mirror(pairing_transforms, host_transforms.data(), host_transforms.size());
       const PairedRound pr{view, transforms, f, round, planted && planted->pairing_one_sided, planted && planted->pairing_broken};
-      Exec::for_pixels(width, height, PairedShiftStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr},
+      Exec::for_pixels(width, height,
+                       PairedShiftStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr, color},
                        "paired reuse: shifts");
       Exec::for_pixels(width, height,
                        PairedResampleStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, scratch.data, pr,
-                                                         debug()},
+                                                         debug(), color},
                        "paired reuse: resampling");
       reservoirs.swap(scratch);
     }

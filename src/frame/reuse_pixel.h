@@ -37,6 +37,16 @@ struct ReuseDebugView {
   RESTIR_HD float rejected_fraction(size_t p) const { return tried[p] ? float(rejected[p]) / float(tried[p]) : 0.0f; }
 };
 
+// RGB resampling weights (mis.h, CombineInfo::color; pt.rgb_weights): where a spatial round
+// writes each pixel's shading colour Σ_i m_i F(Y_i) W_i |∂T_i| (null: not asked for), and, for
+// paired reuse, F of each pass-1 shift (indexed as its PairedShift). planted_input_target: tests
+// only (PlantedBias::color_input_target).
+struct ReuseColor {
+  Rgb* out = nullptr;
+  Rgb* shifts = nullptr;
+  bool planted_input_target = false;
+};
+
 // Which random streams a pass reads: frame, render seed, chain (pixel sample).
 struct ReuseFrame {
   uint32_t frame = 0;
@@ -168,12 +178,13 @@ inline void prefetch_neighbours(const GBufferView& g, const Res* reservoirs, int
 // spatial_neighbors pixels on a rotated golden-angle spiral within spatial_radius, into next.
 template <class Res, class MakeBridge>
 RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, Res* next, const MakeBridge& make_bridge,
-                             const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y) {
+                             const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y, const ReuseColor& color = {}) {
   const int w = g.width, h = g.height;
   const int k = rp.spatial_neighbors < kMaxReuseNeighbors ? rp.spatial_neighbors : kMaxReuseNeighbors;
   const uint32_t p = uint32_t(y * w + x);
   const GSurface& cur = g.at(x, y);
   next[p] = reservoirs[p];
+  if (color.out) color.out[p] = Rgb(0);
   if (!cur.valid) return;
   Pcg32 rng = spatial_stream(f, round, p);
   const GSurface* surfaces[kMaxReuseNeighbors + 1];
@@ -211,7 +222,10 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   }
   auto bridge = make_bridge(surfaces, n, false);
   restir::CombineInfo info;
+  info.want_color = color.out != nullptr;
+  info.color_input_target = color.planted_input_target;
   next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, size_t(n)), rp.spatial_mis, rng, &info);
+  if (color.out) color.out[p] = info.color;
   dbg.rejected[p] += uint16_t(info.failed_shifts);
   if (info.selected > 0) dbg.source[p] = 2;
 }

@@ -43,6 +43,18 @@ enum class ReuseMis {
 struct CombineInfo {
   int selected = -1;           // which input the output sample came from (-1: none)
   int failed_shifts = 0;       // inputs whose sample could not be shifted to the canonical domain
+  // RGB resampling weights (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 6.3): with
+  // want_color and a bridge that has color(x) (the integrand F(x), RGB, in the canonical domain),
+  // color = Σ_i m_i F(Y_i) W_i |∂T_i/∂X_i| = Σ_i w_i F(Y_i) / p̂(Y_i) over the inputs. It is
+  // E[F(Y) W_Y | the inputs] over the selection of Y (W_Y = Σw / p̂(Y), GRIS eq. 20), so shading
+  // with it instead of F(Y) W_Y is unbiased with less colour noise: p̂ is a luminance, the
+  // selection does not importance-sample chroma, the sum averages it over the inputs. The MIS
+  // weights must be inside the w_i (not ReuseMis::one_over_z, which normalises Y alone).
+  bool want_color = false;
+  Rgb color{0};
+  // Tests only (PlantedBias::color_input_target): divides w_i by the input's own-domain target
+  // p̂_i(X_i) instead of p̂(Y_i) (the two domains mixed up).
+  bool color_input_target = false;
 };
 
 namespace detail {
@@ -131,7 +143,14 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
         break;
       }
     }
-    if (stream(out, x, p0, resampling_weight(m, p0, in.ucw, jacobian), rng.next_float()) && info) info->selected = i;
+    const float w = resampling_weight(m, p0, in.ucw, jacobian);
+    if constexpr (requires { bridge.color(x); }) {
+      if (info && info->want_color && w > 0) {
+        const float p = info->color_input_target ? in.target : p0;
+        if (p > 0) info->color += bridge.color(x) * (w / p);
+      }
+    }
+    if (stream(out, x, p0, w, rng.next_float()) && info) info->selected = i;
   }
 
   float normalization = 1;

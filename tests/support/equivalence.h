@@ -12,6 +12,7 @@
 #pragma once
 #include <doctest/doctest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -32,19 +33,19 @@ struct EquivalenceSpec {
   double z_difference = 4.5;    // |difference| / SE of the image mean above this: a bias
 };
 
-// Block means of one image, and the image mean (luminance).
+// Block means of one image, and the image mean (luminance; or one colour channel, 0-2).
 struct BlockMeans {
   std::vector<double> blocks;
   double mean = 0;
 };
 
-inline BlockMeans block_means_of(const Image& img, int block) {
+inline BlockMeans block_means_of(const Image& img, int block, int channel = -1) {
   BlockMeans b;
   const int bx = img.width / block, by = img.height / block;
   b.blocks.assign(size_t(bx) * size_t(by), 0.0);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
-      const double l = luminance(img.at(x, y));
+      const double l = channel < 0 ? luminance(img.at(x, y)) : img.at(x, y)[channel];
       b.mean += l;
       if (x < bx * block && y < by * block) b.blocks[size_t(y / block) * size_t(bx) + size_t(x / block)] += l;
     }
@@ -202,10 +203,24 @@ inline std::vector<BlockMeans> test_runs(const Scene& scene, const Options& o, i
   return out;
 }
 
+// The same with each colour channel's block means (RGB certification: pt.rgb_weights changes only
+// the chroma of a pixel, never its luminance).
+inline std::array<std::vector<BlockMeans>, 3> test_runs_rgb(const Scene& scene, const Options& o, int runs, uint64_t seed_base, int block,
+                                                            const RenderHooks& hooks = {}) {
+  std::array<std::vector<BlockMeans>, 3> out;
+  for (int i = 0; i < runs; ++i) {
+    Options t = o;
+    t.render.seed = seed_base + uint64_t(i);
+    const Image img = render(scene, t, hooks).average;
+    for (int c = 0; c < 3; ++c) out[size_t(c)].push_back(block_means_of(img, block, c));
+  }
+  return out;
+}
+
 // R independent path-tracer renders of `total_spp` samples in all, cached per (scene, options)
-// within the test process (several configurations share one reference).
+// within the test process (several configurations share one reference). channel: as block_means_of.
 inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_path, const Scene& scene, const Options& o,
-                                                     int total_spp, int block, int runs = 8) {
+                                                     int total_spp, int block, int runs = 8, int channel = -1) {
   static std::map<std::string, std::vector<BlockMeans>> cache;
   Options r = o;
   r.integrator = "pt";
@@ -219,13 +234,14 @@ inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_pa
   r.di = DiOptions{};
   r.gi = GiOptions{};
   r = only_read_keys(r);
-  const std::string key = scene_path + options_to_json(r, -1) + std::to_string(block) + "/" + std::to_string(runs);
+  const std::string key =
+      scene_path + options_to_json(r, -1) + std::to_string(block) + "/" + std::to_string(runs) + "/" + std::to_string(channel);
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
   std::vector<BlockMeans>& out = cache[key];
   for (int i = 0; i < runs; ++i) {
     r.render.seed = 1 + uint64_t(i);
-    out.push_back(block_means_of(render(scene, r).last, block));
+    out.push_back(block_means_of(render(scene, r).last, block, channel));
   }
   return out;
 }

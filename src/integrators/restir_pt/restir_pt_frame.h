@@ -33,7 +33,10 @@ struct Sampler {
 // Emission at the primary hit (unless ReSTIR DI adds it) + f(Y) W.
 struct Shader {
   bool direct_from_di;
-  RESTIR_HD Rgb operator()(const GSurface& s, const PathReservoir& r, uint32_t) const { return pt_shade(s, r, direct_from_di); }
+  const Rgb* colors;  // pt.rgb_weights: the chain's per-pixel colours (null: f(Y) W_Y)
+  RESTIR_HD Rgb operator()(const GSurface& s, const PathReservoir& r, uint32_t p) const {
+    return pt_shade(s, r, direct_from_di, colors ? colors + p : nullptr);
+  }
 };
 
 }  // namespace pt_frame_detail
@@ -90,8 +93,8 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
     c.reuse(o.pt.reuse, frame,
             PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f,
-            ctx_.planted);
-    this->template shade<PathReservoir>(frame, c, Shader{direct_ != nullptr}, "ReSTIR PT shading");
+            ctx_.planted, o.pt.rgb_weights);
+    this->template shade<PathReservoir>(frame, c, Shader{direct_ != nullptr, c.has_colors ? c.colors.data : nullptr}, "ReSTIR PT shading");
     if (o.render.debug_view == DebugView::reconnection_depth) {
       std::vector<PathReservoir> host(size_t(c.width) * size_t(c.height));
       Exec::download(host.data(), c.reservoirs, host.size());

@@ -82,6 +82,8 @@ struct PtBridge {
     if (b->planted_on) jacobian *= b->planted.jacobian_scale;
     return ok;
   }
+  // F(x), RGB, of a path already in the canonical domain (RGB resampling weights, mis.h).
+  RESTIR_HD Rgb color(const PathSample& x) const { return x.contribution; }
   RESTIR_HD float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
@@ -113,10 +115,13 @@ struct PtBridges {
 RESTIR_HD inline int reconnection_depth_of(const PathReservoir& r) { return r.has_sample() ? r.sample.rc : 0; }
 
 // A pixel's radiance: the emission its primary hit sees (unless ReSTIR DI adds it, pt.direct =
-// restir-di) + f(Y) W_Y of its reservoir's path, W_Y its unbiased contribution weight (Lin et al. 2022).
-RESTIR_HD inline Rgb pt_shade(const GSurface& sf, const PathReservoir& r, bool direct_from_di) {
+// restir-di) + f(Y) W_Y of its reservoir's path, W_Y its unbiased contribution weight (Lin et al. 2022),
+// or, with pt.rgb_weights, `color`: the last spatial round's Σ m_i F(Y_i) W_i |J_i| (mis.h,
+// CombineInfo::color), E[f(Y) W_Y] over that round's selection. A reservoir a (biased) boiling
+// filter emptied afterwards contributes nothing either way.
+RESTIR_HD inline Rgb pt_shade(const GSurface& sf, const PathReservoir& r, bool direct_from_di, const Rgb* color = nullptr) {
   Rgb L = direct_from_di ? Rgb(0) : sf.le;
-  if (sf.valid && r.has_sample()) L += r.sample.contribution * r.ucw;
+  if (sf.valid && r.has_sample()) L += color ? *color : r.sample.contribution * r.ucw;
   mark_non_finite(r, L);
   return L;
 }
