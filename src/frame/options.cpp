@@ -203,6 +203,23 @@ void check_paired_reuse(const Options& o) {
     throw OptionError("di.spatial_pairing = paired: needs di.neighbor_visibility = true with di.visibility_reuse (a partner's "
                       "shift is evaluated once, as the canonical target, with visibility)");
 }
+
+// RGB weights sum m_i F W J over the inputs (mis.h): the MIS weights must be inside the w_i, the
+// integrator's bridge must give F, and ReSTIR DI's F must need no shadow ray (its target holds V).
+void check_rgb_weights(const Options& o) {
+  const auto check = [&](const char* group, const ReuseOptions& r) {
+    if (!r.rgb_weights || r.spatial_mis != restir::ReuseMis::one_over_z) return;
+    throw OptionError(fmt::format("{}.rgb_weights = true: needs {}.spatial_mis = pairwise, generalized-balance or constant "
+                                  "(1/Z normalizes the selected sample alone, so the inputs' colours have no weights to sum)", group, group));
+  };
+  if (o.integrator == "restir-di" || o.integrator == "restir-pt") check("di", o.di.reuse);
+  if (o.integrator == "restir-pt") check("pt", o.pt.reuse);
+  if (o.integrator == "restir-gi" && o.gi.reuse.rgb_weights)
+    throw OptionError("gi.rgb_weights = true: restir-gi has no RGB resampling weights (restir-pt and restir-di do)");
+  if ((o.integrator == "restir-di" || o.integrator == "restir-pt") && o.di.reuse.rgb_weights && !o.di.visibility_reuse)
+    throw OptionError("di.rgb_weights = true: needs di.visibility_reuse = true (each input's colour must carry its visibility "
+                      "without a shadow ray of its own)");
+}
 }  // namespace
 
 void validate_options(const Options& o) {
@@ -223,10 +240,7 @@ void validate_options(const Options& o) {
     throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
                                   enum_name(o.render.backend)));
   check_paired_reuse(o);
-  // RGB weights sum m_i F W J over the inputs: the MIS weights must be inside the w_i (mis.h).
-  if (o.integrator == "restir-pt" && o.pt.rgb_weights && o.pt.reuse.spatial_mis == restir::ReuseMis::one_over_z)
-    throw OptionError("pt.rgb_weights = true: needs pt.spatial_mis = pairwise, generalized-balance or constant (1/Z normalizes "
-                      "the selected path alone, so the inputs' colours have no weights to sum)");
+  check_rgb_weights(o);
   if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)
     throw OptionError(fmt::format("denoise.oidn_library is read only by denoise.method = oidn (not {})", enum_name(o.denoise.method)));
   check_option_groups(o);

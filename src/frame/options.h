@@ -157,6 +157,7 @@ struct ReuseOptions {
   SpatialPairing spatial_pairing = SpatialPairing::none;
   float boiling_filter = 0;  // RTXDI's boiling filter strength (0: off; biased)
   bool duplication_map = false;  // ReSTIR PT Enhanced's duplication maps cap the history (biased)
+  bool rgb_weights = false;      // shade with the last spatial round's RGB resampling weights (sec. 6.3)
   bool similarity_rejection = true;
   float depth_threshold = 0.1f;
   float normal_threshold = 25;
@@ -192,7 +193,6 @@ struct PtOptions {
   float footprint_min_roughness = 0.2f;   // alpha_min at x_{k-1} (sec. 4.2), GGX roughness as roughness_threshold
   bool force_nee_reconnection = false;    // an NEE path with no earlier reconnection vertex reconnects at its light vertex (sec. 6.2.3)
   Roulette roulette = Roulette::replayed;
-  bool rgb_weights = false;  // shade with the spatial round's RGB resampling weights (sec. 6.3)
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
   HistoryScene history_scene = HistoryScene::previous;
@@ -269,6 +269,11 @@ void visit_reuse(const char* prefix, R& r, V& v) {
     "(removes the blotches that one rare sample spreads by reuse, and its energy); 0 = off. Measured on many-lights (ReSTIR "
     "DI vs pt): strength 0.2 -0.09 +- 0.06% (not resolved), 1 -3.9% (worst 8x8 block -9.3%); docs/enhanced.md",
     Range{0, 1});
+  v((p + "rgb_weights").c_str(), r.rgb_weights,
+    "restir-pt, restir-di: shade each pixel with the last spatial round's RGB resampling weights, the sum of "
+    "m_i F(Y_i) W_i |J_i| over its inputs, instead of F(Y) W_Y of the one selected sample (ReSTIR PT Enhanced, sec. 6.3): "
+    "less colour noise, unbiased, no extra rays; the reservoirs and their reuse are unchanged. Needs spatial reuse, "
+    "spatial_mis other than one-over-z, and for restir-di di.visibility_reuse");
   v((p + "duplication_map").c_str(), r.duplication_map,
     "BIASED (named option): duplication maps (Lin, Kettunen, Wyman 2026, sec. 5): after each frame, D = the share of the "
     "288 other pixels in a 17x17 window whose reservoir holds the same sample; next frame's temporal M-cap there becomes "
@@ -333,7 +338,6 @@ void visit_options(O& o, V& v) {
   v("pt.footprint_min_roughness", o.pt.footprint_min_roughness, "hybrid, pt.reconnection=footprint: minimum GGX roughness of x_{k-1} (the paper's single-vertex alpha_min, sec. 4.2)", Range{0, 1});
   v("pt.force_nee_reconnection", o.pt.force_nee_reconnection, "hybrid: a path whose last vertex came from next-event estimation and that has no earlier reconnection vertex reconnects at its light vertex whatever the criterion says (ReSTIR PT Enhanced, sec. 6.2.3): a shift never replays light sampling; unbiased");
   v("pt.roulette", o.pt.roulette, "with path.russian_roulette: replayed (part of the primary sample space: every shift replays the decisions, survival = the vertex albedo) or initial (ReSTIR PT Enhanced, sec. 6.2.4: at initial sampling only, survival = max(throughput) as pt's, its probabilities in the initial sample's source density; shifts never terminate a path); both unbiased");
-  v("pt.rgb_weights", o.pt.rgb_weights, "shade each pixel with the last spatial round's RGB resampling weights, sum of m_i F(Y_i) W_i |J_i| over its inputs, instead of F(Y) W_Y of the selected path (ReSTIR PT Enhanced, sec. 6.3: less colour noise, unbiased; the reservoirs and their reuse are unchanged); needs spatial reuse and pt.spatial_mis other than one-over-z");
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");

@@ -213,7 +213,7 @@ struct ReservoirChain {
   Array<uint64_t> duplicate_keys;
   Array<float> history_caps;  // the duplication map's M-caps of this frame's pixels, read by the next frame's temporal pass
   bool has_history_caps = false;
-  // RGB resampling weights (pt.rgb_weights): the last spatial round's shading colour per pixel
+  // RGB resampling weights (*.rgb_weights): the last spatial round's shading colour per pixel
   // (reuse_pixel.h's ReuseColor), and paired reuse's F per pass-1 shift.
   Array<Rgb> colors, shift_colors;
   bool has_colors = false;
@@ -263,12 +263,12 @@ struct ReservoirChain {
 
   // Temporal reuse (when there is a compatible history), then the spatial rounds; bridges(surfaces,
   // n, temporal) makes a pixel's bridge (mis.h). planted: tests only (planted_bias.h).
-  // rgb_weights: the spatial rounds also write each pixel's shading colour (colors, has_colors).
+  // rp.rgb_weights: the spatial rounds also write each pixel's shading colour (colors, has_colors).
   template <class Bridges>
   void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f,
-             const PlantedBias* planted = nullptr, bool rgb_weights = false) {
+             const PlantedBias* planted = nullptr) {
     using namespace chain_detail;
-    has_colors = rgb_weights && rp.spatial_neighbors > 0 && rp.spatial_rounds > 0;
+    has_colors = rp.rgb_weights && rp.spatial_neighbors > 0 && rp.spatial_rounds > 0;
     ReuseColor color;
     if (has_colors) {
       colors.reserve(size_t(width) * size_t(height));

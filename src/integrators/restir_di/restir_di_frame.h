@@ -52,8 +52,9 @@ struct Shader {
   FrameWorld<Tracer> fw;
   bool visibility_reuse;
   ReuseFrame f;
+  const Rgb* colors;  // di.rgb_weights: the chain's per-pixel colours (null: f(Y) W_Y)
   RESTIR_HD Rgb operator()(const GSurface& s, const DiReservoir& r, uint32_t p) const {
-    return di_shade(fw.world, fw.tracer, s, r, visibility_reuse, p, f.frame, f.seed, f.chain);
+    return di_shade(fw.world, fw.tracer, s, r, visibility_reuse, p, f.frame, f.seed, f.chain, colors ? colors + p : nullptr);
   }
 };
 
@@ -96,7 +97,8 @@ class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
             DiBridges<Tracer>{fw, di.visibility_reuse, di.visibility_reuse && di.neighbor_visibility,
                               di.history_scene == HistoryScene::previous, planted_now},
             f, ctx_.planted);
-    this->template shade<DiReservoir>(frame, c, Shader<Tracer>{fw, di.visibility_reuse, f}, "ReSTIR DI shading");
+    this->template shade<DiReservoir>(frame, c, Shader<Tracer>{fw, di.visibility_reuse, f, c.has_colors ? c.colors.data : nullptr},
+                                      "ReSTIR DI shading");
   }
 
   // This frame's light tiles for chain f.chain (unless di.light_tiles = 0), drawn on the host

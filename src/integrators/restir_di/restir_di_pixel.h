@@ -321,6 +321,13 @@ struct DiBridge {
   RESTIR_HD bool stored_target_valid(int i) const {
     return i == 0 || (b->canonical_visibility == b->other_visibility && (!temporal || !b->fw.animated));
   }
+  // F(x), RGB, at the canonical surface (RGB resampling weights, mis.h; di.rgb_weights): the
+  // unshadowed value. combine() asks it only for inputs with a positive target, and with
+  // di.visibility_reuse (checked by the options) that target includes V, so V = 1 there: F needs no
+  // shadow ray.
+  RESTIR_HD Rgb color(const LightPoint& x) const {
+    return di_unshadowed(b->fw.world.lights, *surfaces[0], x, b->fw.world.ray_epsilon, nullptr);
+  }
   RESTIR_HD float target_from(int i, const LightPoint& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
     const bool lights = history_lights(), scene = history_scene();
@@ -349,18 +356,21 @@ struct DiBridges {
 };
 
 // The final shading of a pixel: f(y) W, with visibility traced unless the target already included
-// it; a delta lobe's direct light through di_specular (alone for a delta BSDF, added for a mixed
-// one); emission and background as seen.
+// it, or with di.rgb_weights `color`, the last spatial round's Σ m_i F(Y_i) W_i (mis.h; its inputs'
+// visibility is in their targets); a delta lobe's direct light through di_specular (alone for a
+// delta BSDF, added for a mixed one); emission and background as seen.
 template <class Tracer>
 RESTIR_HD inline Rgb di_shade(const PathWorld& w, const Tracer& tracer, const GSurface& sf, const DiReservoir& r, bool visibility_reuse,
-                              uint32_t pixel, uint32_t frame, uint64_t seed, uint32_t chain) {
+                              uint32_t pixel, uint32_t frame, uint64_t seed, uint32_t chain, const Rgb* color = nullptr) {
   Rgb L = sf.le;
   if (!sf.valid) return L;
   if (bsdf_has_delta(sf.bsdf)) {
     Pcg32 rng = make_rng(pixel, frame, RngPass::misc, seed, chain);
     L += di_specular(w, tracer, sf, rng);
   }
-  if (!bsdf_is_delta(sf.bsdf) && r.has_sample()) {
+  if (!bsdf_is_delta(sf.bsdf) && r.has_sample() && color) {
+    L += *color;
+  } else if (!bsdf_is_delta(sf.bsdf) && r.has_sample()) {
     Ray shadow;
     Rgb contrib = di_unshadowed(w.lights, sf, r.sample, w.ray_epsilon, &shadow) * r.ucw;
     if (!visibility_reuse && tracer.occluded(shadow)) contrib = Rgb(0);

@@ -93,7 +93,7 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
     c.reuse(o.pt.reuse, frame,
             PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f,
-            ctx_.planted, o.pt.rgb_weights);
+            ctx_.planted);
     this->template shade<PathReservoir>(frame, c, Shader{direct_ != nullptr, c.has_colors ? c.colors.data : nullptr}, "ReSTIR PT shading");
     if (o.render.debug_view == DebugView::reconnection_depth) {
       std::vector<PathReservoir> host(size_t(c.width) * size_t(c.height));

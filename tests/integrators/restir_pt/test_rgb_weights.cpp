@@ -102,12 +102,22 @@ TEST_SUITE("restir_pt") {
     CHECK(planted.worst > 20);
   }
 
-  TEST_CASE("pt.rgb_weights: refused with one-over-z spatial MIS") {
+  TEST_CASE("*.rgb_weights: refused with one-over-z spatial MIS, for restir-gi, and for restir-di without visibility reuse") {
     Options o;
     o.integrator = "restir-pt";
     set_option(o, "pt.rgb_weights", "true");
     CHECK_NOTHROW(validate_options(o));
     set_option(o, "pt.spatial_mis", "one-over-z");
     CHECK_THROWS_WITH_AS(validate_options(o), doctest::Contains("pt.rgb_weights"), OptionError);
+    Options gi;
+    gi.integrator = "restir-gi";
+    set_option(gi, "gi.rgb_weights", "true");
+    CHECK_THROWS_WITH_AS(validate_options(gi), doctest::Contains("gi.rgb_weights"), OptionError);
+    Options di;
+    di.integrator = "restir-di";
+    set_option(di, "di.rgb_weights", "true");
+    CHECK_NOTHROW(validate_options(di));
+    set_option(di, "di.visibility_reuse", "false");
+    CHECK_THROWS_WITH_AS(validate_options(di), doctest::Contains("di.visibility_reuse"), OptionError);
   }
 }
