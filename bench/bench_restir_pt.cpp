@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames, "frames per sequence (the last one is measured)");
   app.add_option("--reference-spp", reference_spp);
   app.add_option("--depth", depth, "max depth of all renders");
+  std::vector<std::string> sets;
+  app.add_option("--set", sets, "extra options for ReSTIR PT (key=value), e.g. ReSTIR PT Enhanced's (docs/enhanced.md)");
   bool rays_only = false;
   app.add_flag("--rays-only", rays_only, "only where a hybrid frame on the teapots goes (its rays replayed through Embree)");
   CLI11_PARSE(app, argc, argv);
@@ -71,6 +73,7 @@ int main(int argc, char** argv) {
       o.render.spp = 1;
       o.render.frames = frames;
       set_option(o, "pt.shift", shift);
+      for (const auto& s : sets) set_option_assignment(o, s);
       RenderResult r = render(scene, o);
       const double ms = bench::median(r.frame_ms, 1);
       const double err = rel_mse(r.last, reference);
