@@ -36,7 +36,7 @@ struct PlantedBias {
   // pt.roulette = initial: the walk's stored replay densities keep the survival probabilities
   // (as under replayed roulette) while the shifts replay without roulette: a wrong Jacobian.
   bool roulette_in_replay = false;
-  // pt.rgb_weights: each input's colour weight w_i F(Y_i) / p̂ divides by its own-domain target
+  // *.rgb_weights: each input's colour weight w_i F(Y_i) / p̂ divides by its own-domain target
   // p̂_i(X_i) instead of p̂(Y_i) in this pixel's domain (reuse_pixel.h's ReuseColor).
   bool color_input_target = false;
 };

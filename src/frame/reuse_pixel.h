@@ -37,7 +37,7 @@ struct ReuseDebugView {
   RESTIR_HD float rejected_fraction(size_t p) const { return tried[p] ? float(rejected[p]) / float(tried[p]) : 0.0f; }
 };
 
-// RGB resampling weights (mis.h, CombineInfo::color; pt.rgb_weights): where a spatial round
+// RGB resampling weights (mis.h, CombineInfo::color; *.rgb_weights): where a spatial round
 // writes each pixel's shading colour Σ_i m_i F(Y_i) W_i |∂T_i| (null: not asked for), and, for
 // paired reuse, F of each pass-1 shift (indexed as its PairedShift). planted_input_target: tests
 // only (PlantedBias::color_input_target).
