@@ -203,8 +203,9 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
     }
     const float w = restir::resampling_weight(m, s.target, in.ucw, s.jacobian);
     if constexpr (requires { bridge.color(in.sample); }) {  // RGB weights: as restir::combine's (mis.h)
-      const float pt = color.planted_input_target ? in.target : s.target;
-      if (color.out && w > 0 && pt > 0) color.out[p] += (i == 0 ? bridge.color(in.sample) : color.shifts[at[i] * k + size_t(slot[i])]) * (w / pt);
+      if (color.out && w > 0)
+        color.out[p] += restir::color_term(i == 0 ? bridge.color(in.sample) : color.shifts[at[i] * k + size_t(slot[i])], w,
+                                           color.planted_input_target ? in.target : s.target);
     }
     if (restir::stream(out, in.sample, s.target, w, rng.next_float())) selected = i;
   }

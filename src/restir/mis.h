@@ -57,6 +57,10 @@ struct CombineInfo {
   bool color_input_target = false;
 };
 
+// One input's term of CombineInfo::color: F(Y_i) w_i / p̂(Y_i), nothing where w_i or p̂ is 0 (the
+// paired resampling pass, paired_reuse.h, sums the same terms).
+RESTIR_HD inline Rgb color_term(Rgb f, float w, float target) { return w > 0 && target > 0 ? f * (w / target) : Rgb(0); }
+
 namespace detail {
 // Pairwise MIS (confidence-weighted, defensive): with M_c the canonical confidence, R = ΣM − M_c,
 //   m_c(x) = M_c/ΣM + Σ_j (M_j/ΣM) · M_c p̂_0(x) / (M_c p̂_0(x) + R p̂_{←j}(x))
@@ -145,10 +149,7 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
     }
     const float w = resampling_weight(m, p0, in.ucw, jacobian);
     if constexpr (requires { bridge.color(x); }) {
-      if (info && info->want_color && w > 0) {
-        const float p = info->color_input_target ? in.target : p0;
-        if (p > 0) info->color += bridge.color(x) * (w / p);
-      }
+      if (info && info->want_color && w > 0) info->color += color_term(bridge.color(x), w, info->color_input_target ? in.target : p0);
     }
     if (stream(out, x, p0, w, rng.next_float()) && info) info->selected = i;
   }

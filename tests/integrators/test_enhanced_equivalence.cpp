@@ -75,22 +75,6 @@ void certify_rgb(const std::string& label, const std::string& path, const Scene&
   }
 }
 
-// Repeats of `o` under `planted` against one reference; how many the harness flags.
-int detections(const std::string& path, const Scene& scene, const Options& o, const PlantedBias& planted, const std::string& what) {
-  const Certification c = planted_certification();
-  const auto& ref = reference_runs(path, scene, o, c.reference_spp, 8);
-  RenderHooks hooks;
-  hooks.planted = &planted;
-  int detected = 0;
-  for (int r = 0; r < 10; ++r) {
-    const EquivalenceReport rep = compare_runs(test_runs(scene, o, c.runs, 100000 + 10000 * uint64_t(r), 8, hooks), ref, c.spec);
-    MESSAGE(what << ", repeat " << r << ": " << rep.describe());
-    if (!rep.pass()) ++detected;
-  }
-  MESSAGE(what << ": detected in " << detected << " of 10");
-  return detected;
-}
-
 }  // namespace
 
 TEST_SUITE("slow_equivalence_enhanced") {
@@ -142,7 +126,8 @@ TEST_SUITE("slow_planted_enhanced") {
     Scene scene = load_scene(path);
     PlantedBias planted;
     planted.roulette_in_replay = true;
-    CHECK(detections(path, scene, initial_roulette_pt(scene, "random-replay"), planted, "roulette in replayed densities") >= 9);
+    CHECK(planted_detections("roulette in replayed densities", path, scene, initial_roulette_pt(scene, "random-replay"), planted,
+                             planted_certification()) >= 9);
   }
 
   TEST_CASE("RGB weights divided by the input's own-domain target are detected in at least 9 of 10 repeats") {
@@ -150,7 +135,8 @@ TEST_SUITE("slow_planted_enhanced") {
     Scene scene = load_scene(path);
     PlantedBias planted;
     planted.color_input_target = true;
-    CHECK(detections(path, scene, rgb_pt(scene, false), planted, "RGB weights over the input's own target") >= 9);
+    CHECK(planted_detections("RGB weights over the input's own target", path, scene, rgb_pt(scene, false), planted,
+                             planted_certification()) >= 9);
   }
 
   TEST_CASE("ReSTIR DI: RGB weights divided by the input's own-domain target are detected in at least 9 of 10 repeats") {
@@ -158,7 +144,8 @@ TEST_SUITE("slow_planted_enhanced") {
     Scene scene = load_scene(path);
     PlantedBias planted;
     planted.color_input_target = true;
-    CHECK(detections(path, scene, rgb_di(scene), planted, "ReSTIR DI: RGB weights over the input's own target") >= 9);
+    CHECK(planted_detections("ReSTIR DI: RGB weights over the input's own target", path, scene, rgb_di(scene), planted,
+                             planted_certification()) >= 9);
   }
 
   TEST_CASE("forced NEE reconnection decided on the base path only is detected in at least 9 of 10 repeats") {
@@ -166,6 +153,7 @@ TEST_SUITE("slow_planted_enhanced") {
     Scene scene = load_scene(path);
     PlantedBias planted;
     planted.forced_nee_one_sided = true;
-    CHECK(detections(path, scene, forced_nee_pt(scene), planted, "one-sided forced NEE reconnection") >= 9);
+    CHECK(planted_detections("one-sided forced NEE reconnection", path, scene, forced_nee_pt(scene), planted,
+                             planted_certification()) >= 9);
   }
 }

@@ -64,19 +64,8 @@ TEST_SUITE("slow_planted_footprint") {
     const std::string path = shared_scene("cornell-box/scene-v4.pbrt");
     Scene scene = load_scene(path);
     const Options o = strict_footprint_pt(scene);
-    const Certification c = planted_certification();
-    const auto& ref = reference_runs(path, scene, o, c.reference_spp, 8);
     PlantedBias one_sided;
     one_sided.footprint_one_sided = true;
-    RenderHooks hooks;
-    hooks.planted = &one_sided;
-    int detected = 0;
-    for (int r = 0; r < 10; ++r) {
-      const EquivalenceReport rep = compare_runs(test_runs(scene, o, c.runs, 100000 + 10000 * uint64_t(r), 8, hooks), ref, c.spec);
-      MESSAGE("repeat " << r << ": " << rep.describe());
-      if (!rep.pass()) ++detected;
-    }
-    MESSAGE("one-sided footprint test: detected in " << detected << " of 10");
-    CHECK(detected >= 9);
+    CHECK(planted_detections("one-sided footprint test", path, scene, o, one_sided, planted_certification()) >= 9);
   }
 }

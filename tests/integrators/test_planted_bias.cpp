@@ -34,17 +34,7 @@ int detections(const Planted& p, int repeats) {
   // The margins of the unbiased MIS the planted configuration stands in for (constant MIS is judged
   // as the pairwise MIS it replaces).
   const Certification c = certification(restir::ReuseMis::pairwise, p.runs, p.runs, p.reference_spp);
-  const auto& ref = reference_runs(path, scene, o, c.reference_spp, 8);
-  RenderHooks hooks;
-  hooks.planted = &p.bias;
-  int detected = 0;
-  for (int r = 0; r < repeats; ++r) {
-    const EquivalenceReport rep = compare_runs(test_runs(scene, o, c.runs, 100000 + 10000 * uint64_t(r), 8, hooks), ref, c.spec);
-    const std::string what = std::string(p.name) + " repeat " + std::to_string(r) + ": " + rep.describe();
-    MESSAGE(what);
-    if (!rep.pass()) ++detected;
-  }
-  return detected;
+  return planted_detections(p.name, path, scene, o, p.bias, c, repeats);
 }
 
 PlantedBias jacobian_off() {

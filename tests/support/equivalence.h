@@ -191,37 +191,48 @@ inline EquivalenceReport compare_paired(const std::vector<BlockMeans>& test, con
   return rep;
 }
 
-// K sequences of the test configuration, each averaged over its frames.
-inline std::vector<BlockMeans> test_runs(const Scene& scene, const Options& o, int runs, uint64_t seed_base, int block,
-                                         const RenderHooks& hooks = {}) {
-  std::vector<BlockMeans> out;
+// Block means of one image for luminance (index 0) and each colour channel (1-3).
+using ChannelMeans = std::array<BlockMeans, 4>;
+inline ChannelMeans channel_means_of(const Image& img, int block) {
+  return {block_means_of(img, block), block_means_of(img, block, 0), block_means_of(img, block, 1), block_means_of(img, block, 2)};
+}
+
+// K sequences of the test configuration, each averaged over its frames; per_run(image) for each.
+template <class PerRun>
+void for_test_runs(const Scene& scene, const Options& o, int runs, uint64_t seed_base, const RenderHooks& hooks, const PerRun& per_run) {
   for (int i = 0; i < runs; ++i) {
     Options t = o;
     t.render.seed = seed_base + uint64_t(i);
-    out.push_back(block_means_of(render(scene, t, hooks).average, block));
+    per_run(render(scene, t, hooks).average);
   }
+}
+
+// Their luminance block means.
+inline std::vector<BlockMeans> test_runs(const Scene& scene, const Options& o, int runs, uint64_t seed_base, int block,
+                                         const RenderHooks& hooks = {}) {
+  std::vector<BlockMeans> out;
+  for_test_runs(scene, o, runs, seed_base, hooks, [&](const Image& img) { out.push_back(block_means_of(img, block)); });
   return out;
 }
 
-// The same with each colour channel's block means (RGB certification: pt.rgb_weights changes only
+// The same with each colour channel's block means (RGB certification: *.rgb_weights changes only
 // the chroma of a pixel, never its luminance).
 inline std::array<std::vector<BlockMeans>, 3> test_runs_rgb(const Scene& scene, const Options& o, int runs, uint64_t seed_base, int block,
                                                             const RenderHooks& hooks = {}) {
   std::array<std::vector<BlockMeans>, 3> out;
-  for (int i = 0; i < runs; ++i) {
-    Options t = o;
-    t.render.seed = seed_base + uint64_t(i);
-    const Image img = render(scene, t, hooks).average;
+  for_test_runs(scene, o, runs, seed_base, hooks, [&](const Image& img) {
     for (int c = 0; c < 3; ++c) out[size_t(c)].push_back(block_means_of(img, block, c));
-  }
+  });
   return out;
 }
 
 // R independent path-tracer renders of `total_spp` samples in all, cached per (scene, options)
-// within the test process (several configurations share one reference). channel: as block_means_of.
+// within the test process (several configurations share one reference). channel: as block_means_of;
+// each render is scored once for luminance and every channel, so a channel's reference costs no
+// render of its own.
 inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_path, const Scene& scene, const Options& o,
                                                      int total_spp, int block, int runs = 8, int channel = -1) {
-  static std::map<std::string, std::vector<BlockMeans>> cache;
+  static std::map<std::string, std::array<std::vector<BlockMeans>, 4>> cache;
   Options r = o;
   r.integrator = "pt";
   if (o.integrator == "restir-di") r.path.max_depth = 1;  // direct light (reference_options, as the study harness)
@@ -234,16 +245,18 @@ inline const std::vector<BlockMeans>& reference_runs(const std::string& scene_pa
   r.di = DiOptions{};
   r.gi = GiOptions{};
   r = only_read_keys(r);
-  const std::string key =
-      scene_path + options_to_json(r, -1) + std::to_string(block) + "/" + std::to_string(runs) + "/" + std::to_string(channel);
+  const std::string key = scene_path + options_to_json(r, -1) + std::to_string(block) + "/" + std::to_string(runs);
   auto it = cache.find(key);
-  if (it != cache.end()) return it->second;
-  std::vector<BlockMeans>& out = cache[key];
-  for (int i = 0; i < runs; ++i) {
-    r.render.seed = 1 + uint64_t(i);
-    out.push_back(block_means_of(render(scene, r).last, block, channel));
+  if (it == cache.end()) {
+    std::array<std::vector<BlockMeans>, 4>& out = cache[key];
+    for (int i = 0; i < runs; ++i) {
+      r.render.seed = 1 + uint64_t(i);
+      const ChannelMeans m = channel_means_of(render(scene, r).last, block);
+      for (size_t c = 0; c < 4; ++c) out[c].push_back(m[c]);
+    }
+    it = cache.find(key);
   }
-  return out;
+  return it->second[size_t(channel + 1)];
 }
 
 }  // namespace rl::test
@@ -309,6 +322,24 @@ inline void certify_one(const std::string& label, const std::string& path, const
   MESSAGE(what);
   INFO(what);
   CHECK(rep.pass());
+}
+
+// A planted bias's power test: `repeats` certifications of o with `planted` (runs from seeds
+// 100000 + 10000 r), each against the one reference of c; prints each report and the count under
+// `label`, and returns how many the harness flags.
+inline int planted_detections(const std::string& label, const std::string& path, const Scene& scene, const Options& o,
+                              const PlantedBias& planted, const Certification& c, int repeats = 10) {
+  const auto& ref = reference_runs(path, scene, o, c.reference_spp, 8);
+  RenderHooks hooks;
+  hooks.planted = &planted;
+  int detected = 0;
+  for (int r = 0; r < repeats; ++r) {
+    const EquivalenceReport rep = compare_runs(test_runs(scene, o, c.runs, 100000 + 10000 * uint64_t(r), 8, hooks), ref, c.spec);
+    MESSAGE(label << ", repeat " << r << ": " << rep.describe());
+    if (!rep.pass()) ++detected;
+  }
+  MESSAGE(label << ": detected in " << detected << " of " << repeats);
+  return detected;
 }
 
 }  // namespace rl::test
