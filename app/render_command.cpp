@@ -77,15 +77,23 @@ void write_outputs(const std::string& exr, const std::string& png, const Image& 
 }
 
 // --timings: one row per frame, its wall time and each stage's (stage_times.h); a stage a frame did
-// not run (e.g. temporal reuse on frame 0) is 0.
-std::string timings_csv(const RenderResult& r) {
-  const std::vector<std::string> names = stage_names(r.frame_stages);
+// not run (e.g. temporal reuse on frame 0) is 0. Then the rays per pixel each stage traced, by kind
+// (closest hit, any hit), and the frame's totals (core/ray_counter.h; integrators whose stages
+// count rays: every one but ssr).
+std::string timings_csv(const RenderResult& r, size_t pixels) {
+  const std::vector<std::string> names = stage_names(r.frame_stages), ray_names = ray_stage_names(r.frame_stages);
   std::string csv = "frame,ms";
   for (const auto& n : names) csv += "," + n + "_ms";
+  for (const auto& n : ray_names) csv += "," + n + "_closest_px," + n + "_any_px";
+  if (!ray_names.empty()) csv += ",closest_px,any_px";
   csv += "\n";
+  const double px = double(std::max<size_t>(pixels, 1));
   for (size_t i = 0; i < r.frame_ms.size(); ++i) {
+    const StageTimes none, &st = i < r.frame_stages.size() ? r.frame_stages[i] : none;
     csv += fmt::format("{},{:.3f}", i, r.frame_ms[i]);
-    for (const auto& n : names) csv += fmt::format(",{:.3f}", i < r.frame_stages.size() ? r.frame_stages[i].of(n) : 0.0);
+    for (const auto& n : names) csv += fmt::format(",{:.3f}", st.of(n));
+    for (const auto& n : ray_names) csv += fmt::format(",{:.4f},{:.4f}", double(st.rays_of(n).closest) / px, double(st.rays_of(n).any) / px);
+    if (!ray_names.empty()) csv += fmt::format(",{:.4f},{:.4f}", double(st.total_rays().closest) / px, double(st.total_rays().any) / px);
     csv += "\n";
   }
   return csv;
@@ -93,42 +101,67 @@ std::string timings_csv(const RenderResult& r) {
 
 }  // namespace
 
-// --stats: each stage's median over the frames that ran it, and its share of the median frame.
-std::string stage_summary(const RenderResult& r) {
+// --stats: each stage's median over the frames that ran it, its share of the median frame and,
+// where it traced rays, its median rays per pixel by kind.
+std::string stage_summary(const RenderResult& r, size_t pixels) {
   auto median = [](std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
     return v[v.size() / 2];
   };
-  const double frame = median(r.frame_ms);
-  std::string s = fmt::format("{:<16} {:>10} {:>7}  (median over {} frame(s))\n", "stage", "ms/frame", "share", r.frame_ms.size());
-  for (const std::string& n : stage_names(r.frame_stages)) {
+  const double frame = median(r.frame_ms), px = double(std::max<size_t>(pixels, 1));
+  const bool rays = !ray_stage_names(r.frame_stages).empty();
+  std::string s = fmt::format("{:<16} {:>10} {:>7}{}  (median over {} frame(s))\n", "stage", "ms/frame", "share",
+                              rays ? fmt::format(" {:>10} {:>10}", "closest/px", "any/px") : "", r.frame_ms.size());
+  // The median over the frames that ran the stage of value(frame's stages).
+  const auto stage_median = [&](const std::string& n, const auto& value) {
     std::vector<double> v;
     for (const StageTimes& st : r.frame_stages)
-      if (st.of(n) > 0) v.push_back(st.of(n));
-    const double m = median(v);
-    s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%{}\n", n, m, frame > 0 ? 100 * m / frame : 0.0,
-                     v.size() < r.frame_ms.size() ? fmt::format("  (ran in {} of {} frames)", v.size(), r.frame_ms.size()) : "");
+      if (st.of(n) > 0) v.push_back(value(st));
+    return std::pair{median(v), v.size()};
+  };
+  for (const std::string& n : stage_names(r.frame_stages)) {
+    const auto [m, ran] = stage_median(n, [&](const StageTimes& st) { return st.of(n); });
+    std::string ray_cols;
+    if (rays) {
+      const double c = stage_median(n, [&](const StageTimes& st) { return double(st.rays_of(n).closest); }).first / px;
+      const double y = stage_median(n, [&](const StageTimes& st) { return double(st.rays_of(n).any); }).first / px;
+      ray_cols = c + y > 0 ? fmt::format(" {:>10.3f} {:>10.3f}", c, y) : fmt::format(" {:>10} {:>10}", "", "");
+    }
+    s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%{}{}\n", n, m, frame > 0 ? 100 * m / frame : 0.0, ray_cols,
+                     ran < r.frame_ms.size() ? fmt::format("  (ran in {} of {} frames)", ran, r.frame_ms.size()) : "");
   }
-  s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%\n", "frame", frame, 100.0);
+  std::string total_cols;
+  if (rays) {
+    std::vector<double> c, y;
+    for (const StageTimes& st : r.frame_stages) c.push_back(double(st.total_rays().closest)), y.push_back(double(st.total_rays().any));
+    total_cols = fmt::format(" {:>10.3f} {:>10.3f}", median(c) / px, median(y) / px);
+  }
+  s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%{}\n", "frame", frame, 100.0, total_cols);
   return s;
 }
 
-// The JSON sidecar of a render: configuration, scene, version and timings (frames and stages).
-static void write_sidecar(const std::string& path, const std::string& scene, const std::string& config_json, const RenderResult& r) {
+// The JSON sidecar of a render: configuration, scene, version, timings (frames and stages) and the
+// rays each stage traced (counts; "pixels" turns them into rays per pixel).
+static void write_sidecar(const std::string& path, const std::string& scene, const std::string& config_json, const RenderResult& r,
+                          size_t pixels) {
   nlohmann::ordered_json side;
   side[kSidecarMarker] = 1;
   side["version"] = rl::build_id();
   side["scene"] = scene;
   side["config"] = nlohmann::ordered_json::parse(config_json);
   side["frame_ms"] = r.frame_ms;
-  nlohmann::ordered_json stages = nlohmann::ordered_json::array();
+  nlohmann::ordered_json stages = nlohmann::ordered_json::array(), rays = nlohmann::ordered_json::array();
   for (const StageTimes& st : r.frame_stages) {
-    nlohmann::ordered_json one = nlohmann::ordered_json::object();
+    nlohmann::ordered_json one = nlohmann::ordered_json::object(), counted = nlohmann::ordered_json::object();
     for (const auto& [name, ms] : st.ms) one[name] = ms;
+    for (const auto& [name, c] : st.rays) counted[name] = {{"closest", c.closest}, {"any", c.any}};
     stages.push_back(std::move(one));
+    rays.push_back(std::move(counted));
   }
   side["stage_ms"] = std::move(stages);
+  side["pixels"] = pixels;
+  side["stage_rays"] = std::move(rays);
   write_text_file_atomic(path, side.dump(2) + "\n");
 }
 
@@ -196,11 +229,12 @@ int run_render(const RenderArgs& a) {
 
   write_outputs(a.out, a.png, denoised ? r.denoised : r.last, o, meta);
   if (!a.average.empty()) write_exr(a.average, r.average, meta);
-  if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r));
-  if (a.stats) fmt::print("{}", stage_summary(r));
+  const size_t pixels = size_t(o.film.width) * size_t(o.film.height);
+  if (!a.timings.empty()) write_text_file_atomic(a.timings, timings_csv(r, pixels));
+  if (a.stats) fmt::print("{}", stage_summary(r, pixels));
   // JSON sidecar beside the main output: configuration, scene, version and timings. The marker
   // key lets a later run tell its own sidecar from a user's JSON file of the same name.
-  if (!sidecar.empty()) write_sidecar(sidecar, a.scene, config_json, r);
+  if (!sidecar.empty()) write_sidecar(sidecar, a.scene, config_json, r, pixels);
   if (!a.quiet) {
     double total = 0;
     for (double ms : r.frame_ms) total += ms;

@@ -32,6 +32,24 @@ inline std::string stage_summary(const std::vector<StageTimes>& frames, size_t s
   return out;
 }
 
+// "stage c+a, ...; frame C closest + A any": the median rays per pixel (closest-hit + any-hit) of
+// each stage that traced rays, over the frames after `skip` (core/ray_counter.h).
+inline std::string ray_summary(const std::vector<StageTimes>& frames, double pixels, size_t skip = 0) {
+  std::string out;
+  const auto per_px = [&](const auto& value) {
+    std::vector<double> v;
+    for (const StageTimes& f : frames) v.push_back(double(value(f)) / pixels);
+    return median(v, skip);
+  };
+  for (const std::string& name : ray_stage_names(frames))
+    out += fmt::format("{}{} {:.2f}+{:.2f}", out.empty() ? "" : ", ", name,
+                       per_px([&](const StageTimes& f) { return f.rays_of(name).closest; }),
+                       per_px([&](const StageTimes& f) { return f.rays_of(name).any; }));
+  out += fmt::format("; frame {:.2f} closest + {:.2f} any per pixel", per_px([](const StageTimes& f) { return f.total_rays().closest; }),
+                     per_px([](const StageTimes& f) { return f.total_rays().any; }));
+  return out;
+}
+
 // Seconds Embree alone takes to answer `rays` (closest hit) and `shadow` (any hit) with the
 // scalar queries the renderer issues, over all cores in chunks of 4096 rays: the rays' own cost.
 inline double replay(const Accel& accel, const std::vector<Ray>& rays, const std::vector<Ray>& shadow) {

@@ -54,6 +54,7 @@ struct FrameTime {
   double ms = 0;         // median frame time after the first (which warms caches and the device)
   double device_ms = 0;  // the same frames' stages less the image's copy to the host and uploads
   std::string stages;    // each stage's median over the same frames
+  std::string rays;      // each stage's rays per pixel (closest + any), medians over the same frames
 };
 
 FrameTime frame_ms(const Scene& scene, Options o, const std::string& integrator, Backend backend, int frames) {
@@ -64,7 +65,8 @@ FrameTime frame_ms(const Scene& scene, Options o, const std::string& integrator,
   const size_t skip = frames > 1 ? 1 : 0;
   std::vector<double> device;
   for (const StageTimes& st : r.frame_stages) device.push_back(st.total() - st.of("download") - st.of("upload"));
-  return {bench::median(r.frame_ms, skip), bench::median(device, skip), bench::stage_summary(r.frame_stages, skip)};
+  return {bench::median(r.frame_ms, skip), bench::median(device, skip), bench::stage_summary(r.frame_stages, skip),
+          bench::ray_summary(r.frame_stages, double(o.film.width) * double(o.film.height), skip)};
 }
 
 }  // namespace
@@ -134,6 +136,7 @@ int main(int argc, char** argv) {
                cpu_pt, gpu_pt, cpu_pt / gpu_pt, total / gpu_pt * 1e-6);
     fmt::print("  cuda stages: {} (depth {}); without the image's copy to the host: {:.2f} ms = {:.2f} Grays/s\n", gpu.stages,
                o.path.max_depth, gpu.device_ms, total / gpu.device_ms * 1e-6);
+    fmt::print("  cuda rays per pixel by stage (closest+any): {}\n", gpu.rays);
   }
   for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-gi", &gi_scenes}, std::pair{"restir-pt", &pt_scenes}})
     for (const std::string& path : *list) {
@@ -144,11 +147,13 @@ int main(int argc, char** argv) {
       // Issue 16's ReSTIR PT configuration: hybrid shift, 3 neighbours, temporal reuse (the
       // defaults) at path depth 5 (the teapot scene asks for 8).
       if (integrator == std::string("restir-pt")) o.path.max_depth = pt_depth;
-      const double cpu = frame_ms(scene, o, integrator, Backend::cpu, frames).ms;
+      const FrameTime cpu = frame_ms(scene, o, integrator, Backend::cpu, frames);
       const FrameTime gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
       fmt::print("{} {}x{} {} spp: {} frame (defaults, depth {}): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
-                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu, gpu.ms, cpu / gpu.ms);
+                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu.ms, gpu.ms, cpu.ms / gpu.ms);
       fmt::print("  cuda stages: {}\n", gpu.stages);
+      fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
+      fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
     }
   return 0;
 }

@@ -84,6 +84,8 @@ int main(int argc, char** argv) {
   fmt::print("{:<28} {:>10.1f} {:>12.5f}\n", fmt::format("path tracer NEE, {} spp", spp), r_pt.frame_ms[0], pt_err);
   fmt::print("equal-time relMSE ratio (PT / ReSTIR DI): {:.1f}x\n", pt_err / di_err * (r_pt.frame_ms[0] / di_ms));
   fmt::print("ReSTIR DI stages (median): {}\n", bench::stage_summary(r_di.frame_stages, r_di.frame_stages.size() > 1 ? 1 : 0));
+  fmt::print("ReSTIR DI rays per pixel by stage (closest+any): {}\n",
+             bench::ray_summary(r_di.frame_stages, double(width) * double(height), r_di.frame_stages.size() > 1 ? 1 : 0));
   bench::print_ray_share("ReSTIR DI", bench::ray_share(scene, di, std::min(frames, 3)));
   return 0;
 }

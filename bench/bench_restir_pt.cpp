@@ -85,6 +85,8 @@ int main(int argc, char** argv) {
       const double ratio = pt_err / err * (rp.frame_ms[0] / ms);
       fmt::print("{:<14} {:>10.1f} {:>12.5f} {:>10} spp {:>12.5f} {:>9.1f}x\n", shift, ms, err, pt.render.spp, pt_err, ratio);
       fmt::print("  stages: {}\n", bench::stage_summary(r.frame_stages, 1));
+      fmt::print("  rays per pixel by stage (closest+any): {}\n",
+                 bench::ray_summary(r.frame_stages, double(o.film.width) * double(o.film.height), 1));
     }
   }
   return 0;

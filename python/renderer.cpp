@@ -139,6 +139,19 @@ class PyRenderer {
     for (const auto& [name, ms] : stages_.ms) d[name.c_str()] = ms;
     return d;
   }
+  // The rays each stage of the last frame traced, by kind (core/ray_counter.h), and "frame": all.
+  nb::dict ray_counts() const {
+    nb::dict d;
+    const auto entry = [](const RayCounts& c) {
+      nb::dict e;
+      e["closest"] = c.closest;
+      e["any"] = c.any;
+      return e;
+    };
+    for (const auto& [name, c] : stages_.rays) d[name.c_str()] = entry(c);
+    d["frame"] = entry(stages_.total_rays());
+    return d;
+  }
   nb::dict options() const {
     nb::dict d;
     for (const auto& [k, v] : option_values(renderer_->options())) d[k.c_str()] = v;
@@ -236,6 +249,9 @@ void bind_renderer(nb::module_& m) {
            "docs/denoise.md describes each.")
       .def("denoised", &PyRenderer::denoised, "The last frame after denoise.method (a copy), or None when it is none.")
       .def("stage_times", &PyRenderer::stage_times, "Wall time (ms) of each stage of the last frame.")
+      .def("ray_counts", &PyRenderer::ray_counts,
+           "Rays each stage of the last frame traced: {stage: {'closest': n, 'any': n}}, and 'frame' for all of them "
+           "(divide by film.width * film.height for rays per pixel). Every integrator but ssr counts.")
       .def("options", &PyRenderer::options, "Every option's value as text, as `restir render` echoes them.")
       .def("camera", &PyRenderer::camera_at, nb::arg("frame"), "The scene's camera (path) at a frame of the sequence.")
       .def_prop_ro("frame_ms", [](const PyRenderer& r) { return r.frame_ms_; }, "Wall time (ms) of the last frame.")

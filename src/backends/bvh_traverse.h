@@ -4,6 +4,7 @@
 // guard on rays Embree refuses (ray_queryable).
 #pragma once
 #include "backends/bvh.h"
+#include "core/ray_counter.h"
 #include "scene/ray_queries.h"
 
 namespace rl {
@@ -120,8 +121,15 @@ RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit
 // backend's kernels use it, and the host can run the same stages on the same BVH.
 struct BvhTracer {
   BvhView bvh;
-  RESTIR_HD bool occluded(const Ray& r) const { return bvh_trace(bvh, r, true, nullptr); }
-  RESTIR_HD bool intersect(const Ray& r, Hit& hit) const { return bvh_trace(bvh, r, false, &hit); }
+  RayCounter rays;  // each query counted while the frame counts them (core/ray_counter.h)
+  RESTIR_HD bool occluded(const Ray& r) const {
+    rays.add(true);
+    return bvh_trace(bvh, r, true, nullptr);
+  }
+  RESTIR_HD bool intersect(const Ray& r, Hit& hit) const {
+    rays.add(false);
+    return bvh_trace(bvh, r, false, &hit);
+  }
 };
 
 }  // namespace rl

@@ -77,15 +77,29 @@ struct BvhBackend {
         StageTimer timer(frame.stages, "upload");
         store_.clear();
         generation_ = ctx.accel.generation();
-        fw_.tracer = BvhTracer{store_bvh_view(store_, build_bvh(ctx.scene))};
+        fw_.tracer = BvhTracer{store_bvh_view(store_, build_bvh(ctx.scene)), {}};
         fw_.world = PathWorld{store_scene_view(store_, ctx.accel.scene_view()), store_lights_view(store_, ctx.lights.view()),
                               ctx.accel.ray_epsilon()};
         fw_.animated = scene_animated(ctx.scene);
         uploaded_ = true;
       }
       update_previous(ctx, frame);
+      if (!slots_.data) {
+        slots_.reserve(kRaySlotWords);
+        Exec::zero(slots_, kRaySlotWords);
+      }
+      const RayCounter counter{frame.stages ? slots_.data : nullptr};  // counting while stage times are recorded
+      fw_.tracer.rays = counter, fw_.previous_tracer.rays = counter;
     }
     const FrameWorld<Tracer>& view() const { return fw_; }
+    // The rays traced so far: the tracers' slots (in the policy's memory) and the queues' tally.
+    RayCounts ray_totals() const {
+      if (!slots_.data) return tally_.counts();
+      uint64_t host[kRaySlotWords];
+      Exec::download(host, slots_, kRaySlotWords);
+      return sum_ray_slots(host) + tally_.counts();
+    }
+    RayTally& tally() const { return tally_; }
 
    private:
     // The previous frame's world and lights, and the motion between the frames (the frame's own).
@@ -98,7 +112,7 @@ struct BvhBackend {
       previous_store_.clear();
       if (fw_.has_previous) {
         const Lights& lights = frame.previous_lights ? *frame.previous_lights : ctx.lights;
-        fw_.previous_tracer = BvhTracer{store_bvh_view(previous_store_, build_bvh(*frame.previous_scene))};
+        fw_.previous_tracer = BvhTracer{store_bvh_view(previous_store_, build_bvh(*frame.previous_scene)), {}};
         fw_.previous_world = PathWorld{store_scene_view(previous_store_, frame.previous_accel->scene_view()),
                                        store_lights_view(previous_store_, lights.view()), frame.previous_accel->ray_epsilon()};
       }
@@ -109,6 +123,8 @@ struct BvhBackend {
     }
 
     typename Exec::Store store_, previous_store_;
+    typename Exec::template Array<uint64_t> slots_;
+    mutable RayTally tally_;
     FrameWorld<Tracer> fw_;
     uint64_t generation_ = 0;
     bool uploaded_ = false;
@@ -121,12 +137,15 @@ struct BvhBackend {
     const bvh_backend_detail::PrimaryStage stage{fw.world,   fw.tracer.bvh,      camera, camera_sampling(ctx.options), frame.index, sample,
                                                  fw.back,    fw.animation_count, pixels, motion};
     Exec::for_pixels(camera.width(), camera.height(), stage, "primary hits");
+    w.tally().add(uint64_t(camera.width()) * uint64_t(camera.height()), false);  // a camera ray a pixel
   }
   static void trace_closest(const World& w, const Ray* rays, Hit* hits, size_t n, bool) {
     Exec::for_each(n, bvh_backend_detail::TraceStage{w.view().tracer.bvh, rays, hits, nullptr}, "closest hits");
+    w.tally().add(n, false);
   }
   static void trace_any(const World& w, const Ray* rays, uint8_t* blocked, size_t n) {
     Exec::for_each(n, bvh_backend_detail::TraceStage{w.view().tracer.bvh, rays, nullptr, blocked}, "shadow rays");
+    w.tally().add(n, true);
   }
 };
 

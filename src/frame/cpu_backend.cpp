@@ -16,12 +16,13 @@ std::vector<Mat4> motion_forward(const std::vector<Mat4>& back) {
 
 void CpuBackend::World::update(const RenderContext& ctx, const FrameInfo& frame) {
   fw_.world = path_world(ctx);
-  fw_.tracer = EmbreeTracer{&ctx.accel};
+  const RayCounter counter{frame.stages ? slots_.get() : nullptr};  // counting while stage times are recorded
+  fw_.tracer = EmbreeTracer{&ctx.accel, counter};
   fw_.has_previous = frame.previous_scene && frame.previous_accel;
   if (fw_.has_previous) {
     const Lights& lights = frame.previous_lights ? *frame.previous_lights : ctx.lights;
     fw_.previous_world = {frame.previous_accel->scene_view(), lights.view(), frame.previous_accel->ray_epsilon()};
-    fw_.previous_tracer = EmbreeTracer{frame.previous_accel};
+    fw_.previous_tracer = EmbreeTracer{frame.previous_accel, counter};
   }
   fw_.has_previous_lights = frame.previous_lights != nullptr;
   if (fw_.has_previous_lights) fw_.previous_lights = frame.previous_lights->view();

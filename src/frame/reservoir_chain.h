@@ -430,6 +430,7 @@ class ReservoirFrame : public Integrator {
   using History = typename Chain::History;
 
   void render_chains_of(const FrameInfo& frame, Image& out) {
+    const RayCountScope counting(frame.stages, [this] { return world_.ray_totals(); });
     world_.update(ctx_, frame);
     render_chains<Exec>(chains_, ctx_.options.render.spp, sum_, out, [&](int s, Chain& c) {
       c.begin_frame(world_, ctx_, frame, s);

@@ -1,7 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
 #include <unistd.h>
@@ -54,32 +56,52 @@ TEST_SUITE("cli") {
   }
 
   // Issue 9: where the frame's time goes. Every integrator reports its stages; --timings has a
-  // column per stage (0 where a frame did not run it: no temporal reuse on frame 0).
-  TEST_CASE("--timings writes each frame's stage times, and they add up to at most the frame time") {
+  // column per stage (0 where a frame did not run it: no temporal reuse on frame 0), then (issue
+  // 48) the rays per pixel of each stage that traced any, by kind, and the frame's; the sidecar has
+  // the counts.
+  TEST_CASE("--timings writes each frame's stage times and rays per pixel; the sidecar the ray counts") {
     fs::path d = temp_dir("timings");
     write(d / "s.pbrt", kGoodScene);
-    auto r = run_restir("render " + (d / "s.pbrt").string() + " -q --spp 1 --frames 3 --integrator restir-di -o " +
+    auto r = run_restir("render " + (d / "s.pbrt").string() + " -q --spp 1 --frames 3 --integrator restir-di --res 16x12 -o " +
                         (d / "o.exr").string() + " --timings " + (d / "t.csv").string());
     INFO(r.output);
     REQUIRE(r.status == 0);
     std::ifstream in(d / "t.csv");
     std::string header;
     std::getline(in, header);
-    CHECK(header == "frame,ms,primary_ms,light_tiles_ms,candidates_ms,temporal_ms,spatial_ms,shading_ms");
+    const std::string ms_columns = "frame,ms,primary_ms,light_tiles_ms,candidates_ms,temporal_ms,spatial_ms,shading_ms";
+    CHECK(header.starts_with(ms_columns + ",primary_closest_px,primary_any_px,"));
+    CHECK(header.ends_with(",closest_px,any_px"));
+    CHECK(header.find("light_tiles_closest_px") == std::string::npos);  // no rays: no ray columns
+    std::vector<std::string> names;
+    std::stringstream hs(header);
+    for (std::string cell; std::getline(hs, cell, ',');) names.push_back(cell);
+    const auto column = [&](const std::string& n) { return size_t(std::find(names.begin(), names.end(), n) - names.begin()); };
     for (int f = 0; f < 3; ++f) {
       std::string line;
       REQUIRE(std::getline(in, line));
       std::vector<double> v;
       std::stringstream ss(line);
       for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
-      REQUIRE(v.size() == 8);
+      REQUIRE(v.size() == names.size());
       CHECK(v[0] == f);
       double stages = 0;
-      for (size_t i = 2; i < v.size(); ++i) stages += v[i];
+      for (size_t i = 2; i < 8; ++i) stages += v[i];
       CHECK(stages <= v[1] * 1.001 + 0.01);
       CHECK(stages > 0);
       CHECK((v[5] == 0) == (f == 0));  // temporal reuse needs a history
+      CHECK(v[column("primary_closest_px")] == 1.0);  // a camera ray a pixel
+      double closest = 0, any = 0;
+      for (size_t i = 8; i + 2 < names.size(); i += 2) closest += v[i], any += v[i + 1];
+      CHECK(v[column("closest_px")] == doctest::Approx(closest).epsilon(1e-3));
+      CHECK(v[column("any_px")] == doctest::Approx(any).epsilon(1e-3));
+      CHECK(any > 0);
     }
+    const nlohmann::json side = nlohmann::json::parse(read_file(d / "o.json"));
+    CHECK(side["pixels"] == 16 * 12);
+    REQUIRE(side["stage_rays"].size() == 3);
+    CHECK(side["stage_rays"][1]["primary"]["closest"] == 16 * 12);
+    CHECK(side["stage_rays"][1]["primary"]["any"] == 0);
     fs::remove_all(d);
   }
 

@@ -35,6 +35,11 @@ def test_frames_equal_cli_sequence(rl, tmp_path, scene, integrator, frames, sets
     assert img.shape == (32, 48, 3) and img.dtype == np.float32
     assert img.any()
     assert np.array_equal(img, cli), f"max difference {np.abs(img - cli).max()}"
+    # The rays each stage traced: the sidecar's counts of the CLI's last frame.
+    side = json.loads(out.with_suffix(".json").read_text())
+    counts = r.ray_counts()
+    assert counts.pop("frame") == {k: sum(s[k] for s in side["stage_rays"][-1].values()) for k in ("closest", "any")}
+    assert counts == side["stage_rays"][-1] and counts["primary"]["closest"] == 48 * 32
 
 
 def test_render_equals_cli_reference(rl, tmp_path):

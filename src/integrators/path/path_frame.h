@@ -133,6 +133,7 @@ class PathFrame final : public Integrator {
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     using namespace path_frame_detail;
+    const RayCountScope counting(frame.stages, [this] { return world_.ray_totals(); });
     world_.update(ctx_, frame);
     const size_t spp = size_t(ctx_.options.render.spp), pixels = out.size(), total = pixels * spp;
     const size_t wave = std::min(total, Exec::kWaveItems), waves = (total + Exec::kWaveItems - 1) / Exec::kWaveItems;

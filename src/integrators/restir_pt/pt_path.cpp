@@ -46,8 +46,10 @@ void add_direct_light(Integrator& direct, const FrameInfo& frame, Image& out, bo
   di_frame.stages = &di_stages;
   if (rerender) direct.rerender_previous(di_frame, di);
   else direct.render_frame(di_frame, di);
-  if (frame.stages)
+  if (frame.stages) {
     for (const auto& [name, ms] : di_stages.ms) frame.stages->add("di." + name, ms);
+    for (const auto& [name, rays] : di_stages.rays) frame.stages->add_rays("di." + name, rays);
+  }
   for (size_t i = 0; i < out.size(); ++i) out.pixels[i] += di.pixels[i];
 }
 

@@ -1,0 +1,83 @@
+// Ray counters (issue 48: "measure before redesigning"): how many closest-hit and any-hit queries
+// each stage of a frame traces, on every backend. The per-pixel stages count through their tracer
+// (frame_world.h's Tracer holds a RayCounter); the queue stages (a wavefront's trace_closest /
+// trace_any, the primary hits) add a whole queue at once on the host (RayTally). StageTimer reads
+// a backend's running totals before and after each stage (stage_times.h). The counts are sums of
+// integers, so they do not depend on the thread count or schedule.
+#pragma once
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/math.h"
+
+namespace rl {
+
+struct RayCounts {
+  uint64_t closest = 0;  // closest-hit queries
+  uint64_t any = 0;      // any-hit (shadow, visibility) queries
+  uint64_t total() const { return closest + any; }
+  RayCounts& operator+=(const RayCounts& o) {
+    closest += o.closest, any += o.any;
+    return *this;
+  }
+  friend RayCounts operator+(RayCounts a, const RayCounts& b) { return a += b; }
+  friend RayCounts operator-(const RayCounts& a, const RayCounts& b) { return {a.closest - b.closest, a.any - b.any}; }
+  friend bool operator==(const RayCounts&, const RayCounts&) = default;
+};
+
+// The counter slots: kRaySlots cache lines, each holding [closest, any] of the threads (host) or
+// blocks (device) mapped to it, so that threads rarely share a line. 64 x 64 bytes.
+inline constexpr uint32_t kRaySlots = 64, kRaySlotStride = 8;  // uint64 per slot: one 64-byte line
+inline constexpr size_t kRaySlotWords = size_t(kRaySlots) * kRaySlotStride;
+
+#ifndef __CUDA_ARCH__
+// This host thread's slot: threads numbered in the order they first count, modulo kRaySlots.
+inline uint32_t host_ray_slot() {
+  static std::atomic<uint32_t> next{0};
+  thread_local const uint32_t slot = next.fetch_add(1, std::memory_order_relaxed) % kRaySlots;
+  return slot;
+}
+#endif
+
+// What a per-pixel stage's tracer counts into: kRaySlotWords words in the execution policy's
+// memory (host or device), or nothing (slots null: not counting).
+struct RayCounter {
+  uint64_t* slots = nullptr;
+
+  RESTIR_HD void add(bool any_hit) const {
+    if (!slots) return;
+#if defined(__CUDA_ARCH__)
+    // One atomic per warp and kind: the lanes counting together elect their lowest lane, which
+    // adds their number (a relaxed global atomic per ray would queue a warp's 32 on one address).
+    const unsigned active = __activemask();
+    const unsigned peers = __match_any_sync(active, any_hit ? 1u : 0u);
+    unsigned lane;
+    asm("mov.u32 %0, %%laneid;" : "=r"(lane));
+    if (lane == unsigned(__ffs(peers) - 1)) {
+      const uint32_t slot = (blockIdx.x + blockIdx.y * gridDim.x) % kRaySlots;
+      atomicAdd(reinterpret_cast<unsigned long long*>(slots + slot * kRaySlotStride + (any_hit ? 1 : 0)),
+                static_cast<unsigned long long>(__popc(peers)));
+    }
+#else
+    // Relaxed: the totals are read after the stage's threads joined (the policy's for_pixels).
+    __atomic_fetch_add(slots + host_ray_slot() * kRaySlotStride + (any_hit ? 1 : 0), uint64_t(1), __ATOMIC_RELAXED);
+#endif
+  }
+};
+
+// The sum over the slots (host memory: a device policy downloads them first).
+inline RayCounts sum_ray_slots(const uint64_t* slots) {
+  RayCounts c;
+  for (uint32_t s = 0; s < kRaySlots; ++s) c.closest += slots[s * kRaySlotStride], c.any += slots[s * kRaySlotStride + 1];
+  return c;
+}
+
+// Whole queues counted on the host (a wavefront's trace_closest / trace_any, primary hits).
+struct RayTally {
+  std::atomic<uint64_t> closest{0}, any{0};
+  void add(uint64_t n, bool any_hit) { (any_hit ? any : closest).fetch_add(n, std::memory_order_relaxed); }
+  RayCounts counts() const { return {closest.load(std::memory_order_relaxed), any.load(std::memory_order_relaxed)}; }
+};
+
+}  // namespace rl
