@@ -72,6 +72,20 @@ struct Pcg32 {
   }
   // Uniform integer in [0, n).
   RESTIR_HD uint32_t next_below(uint32_t n) { return uint32_t((uint64_t(next_u32()) * n) >> 32); }
+  // Skips `delta` outputs in O(log delta) steps: the LCG's state after delta steps is
+  // A state + C, with A and C composed by squaring (Brown 1994, "Random number generation with
+  // arbitrary strides"; O'Neill's pcg32_advance). Lets parallel work items read one stream at their
+  // own offsets, bit for bit what a sequential reader gets.
+  RESTIR_HD void advance(uint64_t delta) {
+    uint64_t cur_mult = 6364136223846793005ULL, cur_plus = inc, acc_mult = 1, acc_plus = 0;
+    while (delta > 0) {
+      if (delta & 1) acc_mult *= cur_mult, acc_plus = acc_plus * cur_mult + cur_plus;
+      cur_plus = (cur_mult + 1) * cur_plus;
+      cur_mult *= cur_mult;
+      delta >>= 1;
+    }
+    state = acc_mult * state + acc_plus;
+  }
 };
 
 // The canonical way to make a stream: hash of pixel, frame, pass and the user seed.

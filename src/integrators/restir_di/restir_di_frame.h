@@ -101,23 +101,23 @@ class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
                                       "ReSTIR DI shading");
   }
 
-  // This frame's light tiles for chain f.chain (unless di.light_tiles = 0), drawn on the host
-  // (LightTiles::build) and given to the stages (Exec::mirror: no copy on the host; 1 MB, plus
-  // 3.6 MB of environment directions, copied to a device).
+  // This frame's light tiles for chain f.chain (unless di.light_tiles = 0), drawn by a stage of the
+  // backend into the chain's buffers (LightTileStage: on the device for the CUDA backend, from its
+  // copy of the lights; 1 MB, plus 3.6 MB of environment directions, never copied).
   di_frame_detail::Tiles light_tiles(const FrameInfo& frame, const ReuseFrame& f, Chain& c) {
     const DiOptions& di = ctx_.options.di;
-    const bool tiled = di.light_tiles > 0 && di.light_candidates > 0;
-    StageTimer timer(tiled ? frame.stages : nullptr, "light_tiles");
-    if (tiled)
-      tiles_.build(ctx_.lights, di.light_tiles, di.light_tile_size, f.frame, f.seed, f.chain, di.env_tile_size);
-    else
-      tiles_.build(ctx_.lights, 0, 0, f.frame, f.seed, f.chain);
-    const LightTileEntry* lights = Exec::mirror(c.tiles, tiles_.entries().data(), tiles_.entries().size());
-    const EnvTileEntry* env = Exec::mirror(c.env_tiles, tiles_.env_entries().data(), tiles_.env_entries().size());
-    return {lights, env, tiles_.count(), tiles_.size(), tiles_.env_size()};
+    if (!(di.light_tiles > 0 && di.light_candidates > 0)) return {};
+    StageTimer timer(frame.stages, "light_tiles");
+    const LightsView& lights = this->fw().world.lights;
+    const LightTileShape shape = light_tile_shape(lights, di.light_tiles, di.light_tile_size, di.env_tile_size);
+    if (!shape.any()) return {};
+    c.tiles.reserve(size_t(shape.count) * size_t(shape.size));
+    if (shape.env_size > 0) c.env_tiles.reserve(size_t(shape.count) * size_t(shape.env_size));
+    EnvTileEntry* env = shape.env_size > 0 ? c.env_tiles.data : nullptr;
+    const LightTileStage stage{lights, shape.size, shape.env_size, f.frame, f.seed, f.chain, c.tiles.data, env};
+    Exec::for_chunks(stage.items(shape.count), kLightTileChunk, stage, "light tiles");
+    return {c.tiles.data, env, shape.count, shape.size, shape.env_size};
   }
-
-  LightTiles tiles_;  // the host's copy of the current chain's tiles
 };
 
 }  // namespace rl

@@ -64,6 +64,50 @@ TEST_SUITE("restir_di") {
     CHECK(none.tile_of(3, 4, 320, 3, 7, 0).empty());
   }
 
+  // LightTileStage draws each entry on its own (one GPU thread an entry), skipping to its place
+  // in its tile's stream: the tiles must be what one reader of each stream draws in order.
+  TEST_CASE("light tiles: every entry is its tile stream's draw in order, emitters then environment directions") {
+    Scene scene = load_scene(own_scene("env-object.pbrt"));
+    Lights lights(scene, LightSelection::power);
+    REQUIRE(lights.has_environment());
+    LightTiles tiles;
+    tiles.build(lights, 8, 40, 5, 11, 2, 24);
+    REQUIRE(tiles.entries().size() == 8 * 40);
+    REQUIRE(tiles.env_entries().size() == 8 * 24);
+    for (int t = 0; t < 8; ++t) {
+      CAPTURE(t);
+      Pcg32 rng = make_rng(uint32_t(t), 5, RngPass::light_tiles, 11, 2);
+      for (int i = 0; i < 40; ++i) {
+        float pmf = 0;
+        const uint32_t e = lights.select_emitter(rng.next_float(), &pmf);
+        CHECK(tiles.entries()[size_t(t) * 40 + size_t(i)].emitter == e);
+        CHECK(tiles.entries()[size_t(t) * 40 + size_t(i)].pmf == pmf);
+      }
+      for (int i = 0; i < 24; ++i) {
+        LightSample ls;
+        const bool ok = lights.sample_emitter(lights.environment_emitter(), Vec3(0), rng.next_2d(), ls);
+        const EnvTileEntry& en = tiles.env_entries()[size_t(t) * 24 + size_t(i)];
+        CHECK(en.pdf == (ok ? ls.pdf : 0.0f));
+        if (ok) CHECK(en.direction.x == ls.wi.x);
+      }
+    }
+    // The stage over other ranges: one item a thread (the GPU's), and runs of 7 that start mid-tile
+    // and cross tiles (each range skips to its first item with Pcg32::advance).
+    for (size_t run : {size_t(1), size_t(7)}) {
+      CAPTURE(run);
+      std::vector<LightTileEntry> entries(8 * 40);
+      std::vector<EnvTileEntry> env(8 * 24);
+      const LightTileStage stage{lights.view(), 40, 24, 5, 11, 2, entries.data(), env.data()};
+      for (size_t a = 0; a < stage.items(8); a += run) stage(a, std::min(a + run, stage.items(8)));
+      size_t same = 0;
+      for (size_t i = 0; i < entries.size(); ++i)
+        same += entries[i].emitter == tiles.entries()[i].emitter && entries[i].pmf == tiles.entries()[i].pmf;
+      for (size_t i = 0; i < env.size(); ++i)
+        same += env[i].pdf == tiles.env_entries()[i].pdf && env[i].direction.y == tiles.env_entries()[i].direction.y;
+      CHECK(same == entries.size() + env.size());
+    }
+  }
+
   TEST_CASE("environment tiles: presampled directions carry the map's radiance and density; E[1/pdf] = 4 pi") {
     Scene scene = load_scene(own_scene("env-object.pbrt"));  // the courtyard HDR map
     Lights lights(scene, LightSelection::power);
