@@ -146,6 +146,9 @@ void add_study_command(CLI::App& app, Commands& c) {
   study_cmd->add_option("study", sa.study, "built-in study name (see --list) or path to a study JSON file");
   study_cmd->add_option("--out", sa.out, "output folder (results, references, images, plots, report.html)");
   study_cmd->add_flag("--quick", sa.quick, "apply the study's \"quick\" block (tiny resolution, few seeds and frames)");
+  study_cmd->add_option("--set", sa.sets, "KEY=VALUE over the study's base for every configuration, repeatable (e.g. render.backend=cuda: "
+                                          "the study and its references on the GPU); an axis of the same key still sweeps it")
+      ->allow_extra_args(false);
   study_cmd->add_option("--jobs", sa.jobs, "configurations rendered in parallel (they share the cores)")->check(integer_in(1, INT_MAX));
   study_cmd->add_flag("--list", c.study_list, "list the built-in studies");
   study_cmd->add_flag("-q,--quiet", sa.quiet, "no progress or summary on stderr");

@@ -138,6 +138,7 @@ std::string stage_summary(const RenderResult& r, size_t pixels) {
     total_cols = fmt::format(" {:>10.3f} {:>10.3f}", median(c) / px, median(y) / px);
   }
   s += fmt::format("{:<16} {:>10.3f} {:>6.1f}%{}\n", "frame", frame, 100.0, total_cols);
+  if (r.buffer_bytes > 0) s += fmt::format("buffers: {:.0f} bytes per pixel\n", double(r.buffer_bytes) / px);
   return s;
 }
 
@@ -162,6 +163,7 @@ static void write_sidecar(const std::string& path, const std::string& scene, con
   side["stage_ms"] = std::move(stages);
   side["pixels"] = pixels;
   side["stage_rays"] = std::move(rays);
+  side["buffer_bytes"] = r.buffer_bytes;  // the integrator's buffers after the last frame
   write_text_file_atomic(path, side.dump(2) + "\n");
 }
 

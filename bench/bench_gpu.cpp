@@ -19,7 +19,10 @@
 #include "backends/cuda/cuda_queries.h"
 #include "bench_common.h"
 #include "core/parallel.h"
+#include "frame/gbuffer.h"
 #include "integrators/path/path_tracer.h"
+#include "integrators/restir_di/restir_di_pixel.h"
+#include "integrators/restir_pt/pt_path.h"
 #include "frame/render.h"
 #include "scene/loader.h"
 
@@ -55,6 +58,7 @@ struct FrameTime {
   double device_ms = 0;  // the same frames' stages less the image's copy to the host and uploads
   std::string stages;    // each stage's median over the same frames
   std::string rays;      // each stage's rays per pixel (closest + any), medians over the same frames
+  double bytes_px = 0;   // the integrator's buffers per pixel (Integrator::buffer_bytes)
 };
 
 FrameTime frame_ms(const Scene& scene, Options o, const std::string& integrator, Backend backend, int frames) {
@@ -66,7 +70,29 @@ FrameTime frame_ms(const Scene& scene, Options o, const std::string& integrator,
   std::vector<double> device;
   for (const StageTimes& st : r.frame_stages) device.push_back(st.total() - st.of("download") - st.of("upload"));
   return {bench::median(r.frame_ms, skip), bench::median(device, skip), bench::stage_summary(r.frame_stages, skip),
-          bench::ray_summary(r.frame_stages, double(o.film.width) * double(o.film.height), skip)};
+          bench::ray_summary(r.frame_stages, double(o.film.width) * double(o.film.height), skip),
+          double(r.buffer_bytes) / (double(o.film.width) * double(o.film.height))};
+}
+
+// One ReSTIR integrator on one scene, cpu vs cuda: ms per frame, the CUDA stages, the rays per
+// pixel of each stage on both backends, and the buffers per pixel.
+void measure_restir(const std::string& integrator, const std::string& path, int width, int height, int spp, int pt_depth, int frames) {
+  Scene scene = load_scene(path);
+  Options o;
+  apply_scene_hints(o, scene.hints);
+  o.film.width = width, o.film.height = height, o.render.spp = spp;
+  // Issue 16's ReSTIR PT configuration: hybrid shift, 3 neighbours, temporal reuse (the
+  // defaults) at path depth 5 (the teapot scene asks for 8).
+  if (integrator == "restir-pt") o.path.max_depth = pt_depth;
+  const FrameTime cpu = frame_ms(scene, o, integrator, Backend::cpu, frames);
+  const FrameTime gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
+  fmt::print("{} {}x{} {} spp: {} frame (defaults, depth {}): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
+             path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu.ms, gpu.ms, cpu.ms / gpu.ms);
+  fmt::print("  cuda stages: {}\n", gpu.stages);
+  fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
+  fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
+  fmt::print("  buffers per pixel: cpu {:.0f} B, cuda {:.0f} B (G-buffer surface {} B, DI reservoir {} B, PT reservoir {} B)\n",
+             cpu.bytes_px, gpu.bytes_px, sizeof(GSurface), sizeof(DiReservoir), sizeof(PathReservoir));
 }
 
 }  // namespace
@@ -139,21 +165,6 @@ int main(int argc, char** argv) {
     fmt::print("  cuda rays per pixel by stage (closest+any): {}\n", gpu.rays);
   }
   for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-gi", &gi_scenes}, std::pair{"restir-pt", &pt_scenes}})
-    for (const std::string& path : *list) {
-      Scene scene = load_scene(path);
-      Options o;
-      apply_scene_hints(o, scene.hints);
-      o.film.width = width, o.film.height = height, o.render.spp = spp;
-      // Issue 16's ReSTIR PT configuration: hybrid shift, 3 neighbours, temporal reuse (the
-      // defaults) at path depth 5 (the teapot scene asks for 8).
-      if (integrator == std::string("restir-pt")) o.path.max_depth = pt_depth;
-      const FrameTime cpu = frame_ms(scene, o, integrator, Backend::cpu, frames);
-      const FrameTime gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
-      fmt::print("{} {}x{} {} spp: {} frame (defaults, depth {}): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
-                 path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu.ms, gpu.ms, cpu.ms / gpu.ms);
-      fmt::print("  cuda stages: {}\n", gpu.stages);
-      fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
-      fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
-    }
+    for (const std::string& path : *list) measure_restir(integrator, path, width, height, spp, pt_depth, frames);
   return 0;
 }

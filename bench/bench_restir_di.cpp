@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   fmt::print("ReSTIR DI stages (median): {}\n", bench::stage_summary(r_di.frame_stages, r_di.frame_stages.size() > 1 ? 1 : 0));
   fmt::print("ReSTIR DI rays per pixel by stage (closest+any): {}\n",
              bench::ray_summary(r_di.frame_stages, double(width) * double(height), r_di.frame_stages.size() > 1 ? 1 : 0));
+  fmt::print("ReSTIR DI buffers: {:.0f} bytes per pixel\n", double(r_di.buffer_bytes) / (double(width) * double(height)));
   bench::print_ray_share("ReSTIR DI", bench::ray_share(scene, di, std::min(frames, 3)));
   return 0;
 }

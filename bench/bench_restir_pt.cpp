@@ -87,6 +87,7 @@ int main(int argc, char** argv) {
       fmt::print("  stages: {}\n", bench::stage_summary(r.frame_stages, 1));
       fmt::print("  rays per pixel by stage (closest+any): {}\n",
                  bench::ray_summary(r.frame_stages, double(o.film.width) * double(o.film.height), 1));
+      fmt::print("  buffers: {:.0f} bytes per pixel\n", double(r.buffer_bytes) / (double(o.film.width) * double(o.film.height)));
     }
   }
   return 0;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 16's one prepared command for a machine with an NVIDIA GPU: builds the CUDA backend, runs
-# restir_gpu_tests (CPU and CUDA backends agree) and bench_gpu (1920x1080), and writes a results
-# file. Meant to finish in under 6 minutes on one H200.
+# restir_gpu_tests (CPU and CUDA backends agree) and bench_gpu (1920x1080), the resolution and
+# equal-time studies on the GPU (run_gpu_studies), and writes a results file. Meant to finish in
+# under 10 minutes on one H200 (the studies at most 2 x GPU_CHECK_STUDY_TIMEOUT of it).
 #
 #   scripts/gpu-check.sh [RESULTS]
 #       on a GPU machine with this project's Debian packages (installs what is missing): build in
@@ -76,6 +77,7 @@ run_checks() {
         cat "${TMPDIR:-/tmp}/stages-$integrator.csv" >>"$results" 2>/dev/null || true
       done
     fi
+    [ -x "$bin/restir" ] && [ "${GPU_CHECK_STUDIES:-1}" != 0 ] && run_gpu_studies "$results" "$bin" "${runner[@]}"
   fi
   # "No usable GPU" on a machine whose driver lists one is a failure (a driver or library
   # mismatch, say), not a skip.
@@ -85,6 +87,28 @@ run_checks() {
   fi
   echo "results: $results (restir_gpu_tests exit status $status)"
   return "$status"
+}
+
+# run_gpu_studies RESULTS BIN RUNNER...: the GPU as the study engine (issue 48). The thesis'
+# resolution study (fig. 4.1: pt and ReSTIR PT from 320x180 to 1920x1080) and the equal-time study
+# at 1920x1080, each with its references rendered on the GPU too (restir study --set
+# render.backend=cuda); their folders (results.csv, plots, report.html) in gpu-studies/ beside
+# RESULTS, their CSVs appended to it. Run from the scenes' repository, where the study files'
+# relative scene paths resolve in a bundle too. GPU_CHECK_STUDIES=0 skips them;
+# GPU_CHECK_STUDY_TIMEOUT (s) limits each.
+run_gpu_studies() {
+  local results="$1" bin="$2"
+  shift 2
+  local runner=("$@") study dir
+  for study in resolution equal-time; do
+    dir="$(dirname "$results")/gpu-studies/$study"
+    local sets=(--set render.backend=cuda)
+    [ "$study" = equal-time ] && sets+=(--set film.width=1920 --set film.height=1080)
+    echo "== study $study on the GPU (${sets[*]}) -> $dir" | tee -a "$results"
+    (cd "$SCENES_OWN" && timeout "${GPU_CHECK_STUDY_TIMEOUT:-300}" "${runner[@]}" "$bin/restir" study "$SCENES_OWN/studies/$study.json" \
+      --out "$dir" -q "${sets[@]}") 2>&1 | grep -v 'Film "filename" ignored' | tail -20 | tee -a "$results" || true
+    [ -f "$dir/results.csv" ] && cat "$dir/results.csv" >>"$results"
+  done
 }
 
 build_gpu_programs() {  # build_gpu_programs DIR [cmake args...]
@@ -120,6 +144,7 @@ case "${1:-}" in
     done
     cp -r "$ROOT/../shared/scenes/cornell-box" "$ROOT/../shared/scenes/veach-mis" "$ROOT/../shared/scenes/envmaps" "$b/shared/scenes/"
     cp -r "$ROOT/scenes/." "$b/repo/scenes/"
+    cp -r "$ROOT/studies" "$b/repo/"  # run_gpu_studies
     git -C "$ROOT" describe --always --dirty >"$b/COMMIT" 2>/dev/null || echo unknown >"$b/COMMIT"
     tar -C "$stage" -cJf "$out.tmp" restir-gpu
     mv "$out.tmp" "$out"

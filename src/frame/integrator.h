@@ -87,7 +87,16 @@ class Integrator {
   // Renders `previous` (frame f-1's FrameInfo, in frame f's scene) into `out` from the state frame
   // f-1 started from; the integrator's state afterwards is what it was (frame f+1 is unaffected).
   virtual void rerender_previous(const FrameInfo& previous, Image& out) { render_frame(previous, out); }
+  // Bytes of every buffer the integrator holds (capacities, in the backend's memory): its state,
+  // which the benchmarks report per pixel (issue 48's compact-state targets). 0: not reported.
+  virtual size_t buffer_bytes() const { return 0; }
 };
+
+// The bytes an execution policy's array holds (Exec::Array<T>: capacity elements).
+template <class A>
+size_t array_bytes(const A& a) {
+  return a.capacity * sizeof(*a.data);
+}
 
 // One row of the registry (src/integrators/registry.cpp): an algorithm, the option groups it
 // reads and how to make it on each backend. A new integrator is one folder and a row.

@@ -155,6 +155,7 @@ Options reference_options(const Options& defaults, const Options& o) {
   Options r = defaults;
   r.integrator = "pt";
   r.film = o.film;
+  r.render.backend = o.render.backend;  // on the configuration's backend: a study on the GPU renders its references there
   r.path.max_depth = o.integrator == "restir-di" ? 1 : o.path.max_depth;
   r.render.camera_path.clear();
   r.output = OutputOptions{};
@@ -241,6 +242,8 @@ void FrameRenderer::post_process(const PerspectiveCamera& cam, const Image& raw,
 
 void FrameRenderer::set_ray_log(RayLog* log) { accel_->set_ray_log(log); }
 
+size_t FrameRenderer::buffer_bytes() const { return integrator_->buffer_bytes(); }
+
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
   validate_options(o);
   Camera camera = scene.camera;
@@ -275,6 +278,7 @@ RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hoo
     }
   }
   if (bar) std::fprintf(stderr, "\n");
+  result.buffer_bytes = renderer.buffer_bytes();
   return result;
 }
 

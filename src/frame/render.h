@@ -24,6 +24,8 @@ struct RenderResult {
   // The last frame after the post-process stage (denoise.method); empty when it is none. `last` and
   // `average` stay the integrator's raw frames.
   Image denoised;
+  // The integrator's buffers after the last frame (Integrator::buffer_bytes; 0: not reported).
+  size_t buffer_bytes = 0;
 };
 
 struct RenderHooks {
@@ -82,6 +84,8 @@ class FrameRenderer {
   void set_ray_log(RayLog* log);
   const Options& options() const { return o_; }
   int frames_rendered() const { return frame_; }
+  // The integrator's buffers (Integrator::buffer_bytes): its state, for the state per pixel.
+  size_t buffer_bytes() const;
   // Build the AOVs of every frame from now on, even without a denoiser (which needs them anyway).
   void request_aovs(bool on) { aovs_requested_ = on; }
   // The last frame's AOVs: empty (width 0) unless requested or denoise.method != none.

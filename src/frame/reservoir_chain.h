@@ -243,6 +243,15 @@ struct ReservoirChain {
     std::swap(has_history, h.valid), std::swap(has_history_caps, h.has_caps);
   }
 
+  // Bytes of the chain's buffers (Integrator::buffer_bytes); a chain type with more adds its own.
+  size_t bytes() const {
+    return array_bytes(gbuffer) + array_bytes(previous_gbuffer) + array_bytes(motion) + array_bytes(reservoirs) +
+           array_bytes(previous) + array_bytes(scratch) + array_bytes(source) + array_bytes(tried) + array_bytes(rejected) +
+           array_bytes(pairing_offsets) + array_bytes(pairing_first) + array_bytes(pairing_sizes) + array_bytes(pairing_transforms) +
+           array_bytes(paired_shifts) + array_bytes(boiling_means) + array_bytes(duplicate_keys) + array_bytes(history_caps) +
+           array_bytes(colors) + array_bytes(shift_colors);
+  }
+
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
   GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr}; }
 
@@ -414,6 +423,14 @@ class ReservoirFrame : public Integrator {
   // history is exchanged with the copy and back, so frame f+1 starts from frame f's history.
   bool rerenders_previous() const override { return true; }
   void keep_history(bool on) override { keep_history_ = on; }
+  size_t buffer_bytes() const override {
+    size_t b = array_bytes(sum_);
+    for (const auto& c : chains_) b += c->bytes();
+    for (const auto* kept : {&started_previous_, &started_current_})
+      for (const auto& h : *kept)
+        if (h) b += array_bytes(h->reservoirs) + array_bytes(h->gbuffer) + array_bytes(h->caps);
+    return b;
+  }
   void rerender_previous(const FrameInfo& previous, Image& out) override {
     started_previous_.resize(chains_.size());
     for (auto& h : started_previous_)

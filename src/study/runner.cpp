@@ -475,7 +475,8 @@ int run_study(const StudyArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
   if (a.jobs < 1) throw StudyError("--jobs must be >= 1");
   const std::string file = find_study(a.study);
-  const Study s = load_study(file, a.quick);
+  Study s = load_study(file, a.quick);
+  apply_study_sets(s, a.sets);
   if (a.out.empty()) throw StudyError("--out DIR is required");
   const fs::path out(a.out);
   prepare_out_dir(a, out);

@@ -29,6 +29,10 @@ struct StudyArgs {
   std::string study;  // name of a built-in study or path to a JSON file
   std::string out;
   bool quick = false;
+  // --set KEY=VALUE: options over the study's base for every configuration (and, for render.*
+  // keys such as render.backend, its references): a study run on the GPU with
+  // --set render.backend=cuda. An axis of the same key still sweeps it.
+  std::vector<std::string> sets;
   int jobs = 1;
   bool quiet = false;
   ShardSpec shard;     // --shard I/N: run only shard I's jobs, rows into DIR/shards/I-of-N (shards.h)

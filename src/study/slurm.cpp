@@ -27,6 +27,12 @@ std::string absolute(const std::string& p) { return fs::absolute(fs::path(p)).le
 
 // A study given as a file is passed to the tasks by absolute path (they may start elsewhere).
 std::string study_word(const StudyArgs& a) { return fs::exists(a.study) ? absolute(a.study) : a.study; }
+// The flags every task repeats so that it runs the same study: --quick and each --set.
+std::string study_flags(const StudyArgs& a) {
+  std::string f = a.quick ? " --quick" : "";
+  for (const std::string& kv : a.sets) f += " --set " + shell_quote(kv);
+  return f;
+}
 
 std::string header(const SlurmArgs& sl, const std::string& name, const std::string& log) {
   std::string h = "#!/bin/bash\n";
@@ -70,7 +76,7 @@ std::string slurm_shard_script(const StudyArgs& a, const SlurmArgs& sl, const st
   s += fmt::format("# Written by `restir study --slurm`: array task i runs shard i of {} (restir study --shard).\n", sl.shards);
   s += "set -euo pipefail\n";
   s += fmt::format("exec {} study {} --out {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{}\" --jobs 1{}\n", shell_quote(binary),
-                   shell_quote(study_word(a)), shell_quote(absolute(a.out)), sl.shards, a.quick ? " --quick" : "");
+                   shell_quote(study_word(a)), shell_quote(absolute(a.out)), sl.shards, study_flags(a));
   return s;
 }
 
@@ -80,7 +86,7 @@ std::string slurm_merge_script(const StudyArgs& a, const SlurmArgs& sl, const st
   s += "# Written by `restir study --slurm`: gathers the shards into results.csv, plots and report.html.\n";
   s += "set -euo pipefail\n";
   s += fmt::format("exec {} study {} --out {} --merge{}\n", shell_quote(binary), shell_quote(study_word(a)),
-                   shell_quote(absolute(a.out)), a.quick ? " --quick" : "");
+                   shell_quote(absolute(a.out)), study_flags(a));
   return s;
 }
 

@@ -339,6 +339,23 @@ Study load_study(const std::string& path, bool quick) {
   return parse_study(ss.str(), path, quick);
 }
 
+void apply_study_sets(Study& s, const std::vector<std::string>& sets) {
+  for (const std::string& kv : sets) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) throw StudyError("--set '" + kv + "': expected KEY=VALUE");
+    const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+    try {
+      Options trial;
+      set_option(trial, k, v);
+    } catch (const OptionError& e) {
+      throw StudyError(std::string("--set: ") + e.what());
+    }
+    auto it = std::find_if(s.base.begin(), s.base.end(), [&](const auto& p) { return p.first == k; });
+    if (it != s.base.end()) it->second = v;
+    else s.base.emplace_back(k, v);
+  }
+}
+
 std::vector<Configuration> expand(const Study& s) {
   std::vector<Configuration> out;
   if (s.axes.empty()) return {Configuration{}};

@@ -76,6 +76,9 @@ std::vector<std::string> metric_columns(const Study& s);
 
 // Parses a study file; quick = apply its "quick" block. Throws StudyError.
 Study load_study(const std::string& path, bool quick);
+// Each "key=value" of `sets` over s.base (replacing the key's value, or added after the others),
+// checked as the base is: an unknown key or a bad value is a StudyError naming --set.
+void apply_study_sets(Study& s, const std::vector<std::string>& sets);
 Study parse_study(const std::string& json_text, const std::string& path, bool quick);
 
 // grid: cartesian product (first axis varies slowest); zip: i-th values together (equal lengths).

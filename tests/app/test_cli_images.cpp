@@ -151,6 +151,7 @@ TEST_SUITE("cli") {
     CHECK(r.output.find("temporal") != std::string::npos);
     CHECK(r.output.find("(ran in 2 of 3 frames)") != std::string::npos);  // no temporal reuse on frame 0
     CHECK(r.output.find("closest/px") != std::string::npos);            // and the rays each stage traced
+    CHECK(r.output.find("bytes per pixel") != std::string::npos);       // and the integrator's buffers
     CHECK(r.output.find("frame ") != std::string::npos);
     auto bad = run_restir("render " + scene + " -q --res 8x8 --frame-dir " + (d / "g").string() + " --frame-format gif");
     CHECK(bad.status == 2);

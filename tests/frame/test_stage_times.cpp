@@ -1,8 +1,11 @@
 // Per-stage frame timings (issue 9): every integrator reports where its frame time goes.
 #include <doctest/doctest.h>
 
+#include "frame/gbuffer.h"
 #include "frame/integrator.h"
 #include "frame/render.h"
+#include "integrators/restir_di/restir_di_pixel.h"
+#include "integrators/restir_pt/pt_path.h"
 #include "scene/loader.h"
 #include "test_helpers.h"
 
@@ -47,5 +50,32 @@ TEST_SUITE("stage_times") {
         CHECK(r.frame_stages[1].of("resolve") > 0);
       }
     }
+  }
+
+  // Issue 48's state per pixel: the benchmarks divide buffer_bytes by the pixels. A ReSTIR chain
+  // holds at least this frame's and the previous frame's G-buffer and three reservoir arrays
+  // (this frame's, the history and a pass's output) per pixel and chain.
+  TEST_CASE("every integrator on a backend frame reports its buffers, at least the arrays it must hold") {
+    Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
+    struct Expect {
+      const char* integrator;
+      size_t at_least;  // bytes per pixel and chain
+    } cases[] = {{"restir-di", 2 * sizeof(GSurface) + 3 * sizeof(DiReservoir)},
+                 {"restir-pt", 2 * sizeof(GSurface) + 3 * sizeof(PathReservoir)},
+                 {"pt", sizeof(Rgb)}};
+    for (const Expect& e : cases)
+      for (int spp : {1, 2}) {
+        CAPTURE(e.integrator);
+        CAPTURE(spp);
+        Options o = options_for(scene, {"render.frames=2", "path.max_depth=3"});
+        o.integrator = e.integrator;
+        o = only_read_keys(o);
+        o.render.spp = spp;
+        o.film.width = 16, o.film.height = 12;
+        const RenderResult r = render(scene, o);
+        const double per_pixel = double(r.buffer_bytes) / (16.0 * 12.0);
+        CHECK(per_pixel >= double(e.at_least) * (e.integrator[0] == 'r' ? spp : 1));
+        CHECK(per_pixel < 64 * 1024);  // a sanity bound: no runaway allocation
+      }
   }
 }

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "image/image_io.h"
 #include "study/images.h"
 #include "study/plots.h"
 #include "study/results.h"
@@ -432,6 +433,52 @@ TEST_SUITE("study") {
     CHECK(st.baseline[1].second == "1");
     CHECK(error_of(study_json(R"("baseline": {"render.sp": 1})")).find("render.sp") != std::string::npos);
     CHECK(error_of(study_json(R"("baseline": [1])")).find("baseline") != std::string::npos);
+  }
+
+  // Issue 48: the GPU as the study engine. --set render.backend=cuda runs a study and its
+  // references on the GPU; here its host twin (cpu-bvh), which takes the same route.
+  TEST_CASE("--set puts options over the base of every configuration and its references; an axis still sweeps") {
+    fs::path d = temp_dir("set");
+    write(d / "s.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
+        "axes": [{"key": "di.spatial_radius", "values": [0, 10]}], "seeds": 1, "frames": 2,
+        "metrics": ["time", "relmse"], "reference": {"spp": 4})"));
+    StudyArgs a;
+    a.study = (d / "s.json").string();
+    a.out = (d / "out").string();
+    a.quiet = true;
+    a.sets = {"render.backend=cpu-bvh", "film.width=20", "di.spatial_radius=5"};
+    REQUIRE(run_study(a) == 0);
+    CsvTable t = read_csv(d / "out/results.csv");
+    REQUIRE(t.rows.size() == 2);
+    std::set<std::string> radii;
+    for (const auto& r : t.rows) radii.insert(r[size_t(t.col("di.spatial_radius"))]);
+    CHECK(radii == std::set<std::string>{"0", "10"});  // the axis, not --set's 5
+    int references = 0;
+    for (const auto& e : fs::directory_iterator(d / "out/references")) {
+      if (e.path().extension() != ".exr") continue;
+      ++references;
+      CHECK(read_image(e.path().string()).width == 20);
+      std::string config;
+      for (const auto& [k, v] : read_exr_metadata(e.path().string()))
+        if (k == "restir.config") config = v;
+      CHECK(config.find("\"render.backend\":\"cpu-bvh\"") != std::string::npos);  // the reference on the study's backend
+    }
+    CHECK(references == 1);
+    const auto error_with = [&](std::vector<std::string> sets) {
+      a.sets = std::move(sets);
+      try {
+        run_study(a);
+      } catch (const StudyError& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    const std::string unknown = error_with({"render.sp=1"});
+    CHECK(unknown.find("--set") != std::string::npos);
+    CHECK(unknown.find("render.sp") != std::string::npos);
+    CHECK(error_with({"render.spp"}).find("expected KEY=VALUE") != std::string::npos);
+    CHECK(error_with({"render.backend=gpu"}).find("render.backend") != std::string::npos);
+    fs::remove_all(d);
   }
 
   TEST_CASE("a study writes CSV, plots, images and report; the reference cache is reused") {

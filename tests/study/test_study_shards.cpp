@@ -90,6 +90,11 @@ TEST_SUITE("study_shards") {
           std::string::npos);
     const std::string merge = study::slurm_merge_script(a, sl, "/opt/restir");
     CHECK(merge.find("exec '/opt/restir' study 'candidates' --out '/data/run 1' --merge --quick\n") != std::string::npos);
+    a.sets = {"render.backend=cuda", "di.spatial_radius=5"};  // every task runs the same configurations
+    CHECK(study::slurm_shard_script(a, sl, "/opt/restir").find("--quick --set 'render.backend=cuda' --set 'di.spatial_radius=5'\n") !=
+          std::string::npos);
+    CHECK(study::slurm_merge_script(a, sl, "/opt/restir").find("--merge --quick --set 'render.backend=cuda' --set 'di.spatial_radius=5'\n") !=
+          std::string::npos);
   }
 
   TEST_CASE("four shards run at once into one folder; --merge equals a one-process run and names missing jobs") {

@@ -130,6 +130,11 @@ class PathFrame final : public Integrator {
   using Exec = typename B::Exec;
   explicit PathFrame(const RenderContext& ctx) : ctx_(ctx) {}
   bool rerenders_previous() const override { return true; }  // every frame a function of its FrameInfo alone
+  size_t buffer_bytes() const override {
+    return array_bytes(paths_) + array_bytes(live_) + array_bytes(next_live_) + array_bytes(rays_) + array_bytes(hits_) +
+           array_bytes(shadows_) + array_bytes(alive_) + array_bytes(blocked_) + array_bytes(owner_) + array_bytes(kept_) +
+           array_bytes(sums_);
+  }
 
   void render_frame(const FrameInfo& frame, Image& out) override {
     using namespace path_frame_detail;

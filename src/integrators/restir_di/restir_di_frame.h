@@ -64,6 +64,7 @@ template <class B>
 struct RestirDiChain : ReservoirChain<B, DiReservoir> {
   typename B::Exec::template Array<LightTileEntry> tiles;
   typename B::Exec::template Array<EnvTileEntry> env_tiles;
+  size_t bytes() const { return ReservoirChain<B, DiReservoir>::bytes() + array_bytes(tiles) + array_bytes(env_tiles); }
 };
 
 template <class B>

@@ -53,6 +53,7 @@ struct Shader {
 template <class B>
 struct RestirGiChain : ReservoirChain<B, GiReservoir> {
   typename B::Exec::template Array<Rgb> specular;  // not resampled: direct light, or a plain path through a delta BSDF
+  size_t bytes() const { return ReservoirChain<B, GiReservoir>::bytes() + array_bytes(specular); }
 };
 
 template <class B>

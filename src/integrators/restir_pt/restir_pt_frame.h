@@ -79,6 +79,7 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     Base::keep_history(on);
     if (direct_) direct_->keep_history(on);
   }
+  size_t buffer_bytes() const override { return Base::buffer_bytes() + (direct_ ? direct_->buffer_bytes() : 0); }
   void rerender_previous(const FrameInfo& previous, Image& out) override {
     Base::rerender_previous(previous, out);
     if (direct_) add_direct_light(*direct_, previous, out, /*rerender=*/true);
