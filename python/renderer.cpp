@@ -134,6 +134,13 @@ class PyRenderer {
     camera_ = std::move(camera);
   }
 
+  // The next frame is `frame` of the sequence, the history dropped (FrameRenderer::seek).
+  void seek(int frame) {
+    const std::unique_lock busy = claim("seek");
+    nb::gil_scoped_release unlocked;
+    renderer_->seek(frame);
+  }
+
   nb::dict stage_times() const {
     nb::dict d;
     for (const auto& [name, ms] : stages_.ms) d[name.c_str()] = ms;
@@ -242,6 +249,10 @@ void bind_renderer(nb::module_& m) {
       .def("reset", [](PyRenderer& r, std::optional<nb::dict> options) { r.reset(dict_or_none(options)); },
            nb::arg("options") = nb::none(),
            "New option values (film size excepted) on top of the current ones; the history restarts at frame 0.")
+      .def("seek", &PyRenderer::seek, nb::arg("frame"),
+           "The next render_frame() renders frame `frame` of the sequence (0 <= frame < frames): the animated scene's "
+           "pose, the camera path's key and the random streams of that frame, with no history (the integrator starts "
+           "over there, as after reset()). pt, which keeps no history, renders exactly the CLI's frame `frame`.")
       .def("aovs", &PyRenderer::aovs,
            "The last frame's AOVs (needs aovs=True or a denoise.method), copies: albedo, normal (world, unit, toward the "
            "camera) and emission H x W x 3; depth (linear view depth, camera-space z) and depth_gradient H x W; motion "
@@ -256,7 +267,7 @@ void bind_renderer(nb::module_& m) {
       .def("camera", &PyRenderer::camera_at, nb::arg("frame"), "The scene's camera (path) at a frame of the sequence.")
       .def_prop_ro("frame_ms", [](const PyRenderer& r) { return r.frame_ms_; }, "Wall time (ms) of the last frame.")
       .def_prop_ro("frame", [](const PyRenderer& r) { return r.renderer_->frames_rendered(); },
-                   "Frames rendered since construction or reset(): the index of the next one.")
+                   "The index of the next frame: frames rendered since construction, reset() or seek().")
       .def_prop_ro("frames", [](const PyRenderer& r) { return r.renderer_->options().render.frames; },
                    "render.frames: the sequence's length (the camera path is spread over it).")
       .def_prop_ro("notes", [](const PyRenderer& r) { return r.notes_; },

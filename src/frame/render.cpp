@@ -141,6 +141,14 @@ void FrameRenderer::reset(const Options& o) {
   frame_ = 0;
 }
 
+void FrameRenderer::seek(int frame) {
+  if (frame < 0 || frame >= o_.render.frames)
+    throw OptionError(fmt::format("seek: frame {} is not in the sequence (render.frames = {}: 0 to {})", frame, o_.render.frames,
+                                  o_.render.frames - 1));
+  reset(Options(o_));  // no history: the integrator and the denoiser start over
+  frame_ = frame;      // the scene moves to it (and its BVH and lights follow) in render_frame
+}
+
 void FrameRenderer::set_threads(int threads) {
   if (threads == o_.render.threads) return;
   Options o = o_;

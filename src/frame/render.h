@@ -72,6 +72,11 @@ class FrameRenderer {
   // New options: a fresh integrator (no history; the next frame is frame 0); the lights are rebuilt
   // only when the light selection changed, the BVH never (it depends on the scene alone).
   void reset(const Options& o);
+  // The next frame is frame `frame` of the sequence (its animation pose, camera path key and
+  // random streams), with no history: a fresh integrator and denoiser, as after reset(). An
+  // integrator without state between frames (pt) renders exactly the sequence's frame `frame`.
+  // Throws OptionError unless 0 <= frame < render.frames.
+  void seek(int frame);
   // Renders the next frame (index 0, 1, ... since the last reset) of a sequence of `count` frames
   // seen through `key`, sized film.width x film.height; the previous frame's camera is passed on
   // for reprojection. An animated scene is first moved to that frame (its BVH refitted, its

@@ -172,6 +172,7 @@ std::vector<Row> run_job(const Study& s, const Job& job, const SceneData& sd, Re
   RenderResult res = render(sd.scene, o, hooks);
   const Image& final_image = denoised ? res.denoised : res.last;
   scorer.last_frame(final_image, res.frame_ms);
+  scorer.cost(res.frame_stages, res.buffer_bytes);
   const Image* last_ref = scorer.ref_of(o.render.frames - 1);
   // The last frame of every seed, for the noise across seeds.
   if (s.has_metric("noise")) write_exr((fs::path(out) / "renders" / (job.id + ".exr")).string(), final_image);

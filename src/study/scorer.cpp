@@ -94,4 +94,23 @@ void RunScorer::last_frame(const Image& img, const std::vector<double>& frame_ms
   rows.push_back(std::move(row));
 }
 
+void RunScorer::cost(const std::vector<StageTimes>& frames, size_t buffer_bytes) {
+  if (!s_.has_metric("cost")) return;
+  const double pixels = double(o_.film.width) * double(o_.film.height);
+  std::vector<double> closest, any;
+  for (const StageTimes& st : frames) {
+    closest.push_back(double(st.total_rays().closest) / pixels);
+    any.push_back(double(st.total_rays().any) / pixels);
+  }
+  for (Row& row : rows) {
+    const bool one = per_frame_ && row.frame >= 0 && size_t(row.frame) < frames.size();
+    const double c = one ? closest[size_t(row.frame)] : percentile(closest, 0.5);
+    const double a = one ? any[size_t(row.frame)] : percentile(any, 0.5);
+    row.metrics["closest_px"] = c;
+    row.metrics["any_px"] = a;
+    row.metrics["rays_px"] = c + a;
+    row.metrics["bytes_px"] = double(buffer_bytes) / pixels;
+  }
+}
+
 }  // namespace rl::study

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frame/options.h"
+#include "frame/stage_times.h"
 #include "image/image.h"
 #include "scene/scene.h"
 #include "study/results.h"
@@ -35,6 +36,10 @@ class RunScorer {
   void frame(int f, const Image& img, double ms);
   // A study not over time: its one row, for the last frame scored and every frame's wall time.
   void last_frame(const Image& img, const std::vector<double>& frame_ms);
+  // The metric "cost", after the rows: each frame's rays per pixel by kind (stage_times.h; a
+  // per-frame row gets its frame's, the one row the medians over the frames) and the integrator's
+  // buffers per pixel after the last frame (Integrator::buffer_bytes).
+  void cost(const std::vector<StageTimes>& frames, size_t buffer_bytes);
 
   std::vector<Row> rows;
 

@@ -175,7 +175,7 @@ void parse_common(const json& j, Study& s, const std::string& file) {
 
 const std::vector<std::string>& known_metrics() {
   static const std::vector<std::string> m = {"time", "mse", "relmse", "flip", "noise", "convergence", "relmse_reflective",
-                                             "flip_reflective", "relmse_lowpass", "flicker"};
+                                             "flip_reflective", "relmse_lowpass", "flicker", "cost"};
   return m;
 }
 
@@ -192,6 +192,8 @@ std::vector<std::string> metric_columns(const Study& s) {
                         "relmse_lowpass", "flicker"})
     if (s.has_metric(m)) c.push_back(m);
   if (s.has_metric("relmse")) c.push_back("ref_relmse");  // the reference's own error (references.h)
+  if (s.has_metric("cost"))  // rays per pixel by kind and the integrator's buffers per pixel (RunScorer::cost)
+    for (const char* m : {"closest_px", "any_px", "rays_px", "bytes_px"}) c.push_back(m);
   return c;
 }
 

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "frame/gbuffer.h"
 #include "image/image_io.h"
 #include "study/images.h"
 #include "study/plots.h"
@@ -478,6 +479,37 @@ TEST_SUITE("study") {
     CHECK(unknown.find("render.sp") != std::string::npos);
     CHECK(error_with({"render.spp"}).find("expected KEY=VALUE") != std::string::npos);
     CHECK(error_with({"render.backend=gpu"}).find("render.backend") != std::string::npos);
+    fs::remove_all(d);
+  }
+
+  // Issue 45's cost ladder needs rays and memory per pixel beside the time.
+  TEST_CASE("the metric cost: rays per pixel by kind and buffers per pixel, per frame in a study over time") {
+    fs::path d = temp_dir("cost");
+    write(d / "s.json", study_json(R"("base": {"integrator": "restir-di", "film.width": 24, "film.height": 16, "render.spp": 1},
+        "axes": [{"key": "di.bsdf_candidates", "values": [0, 2]}], "seeds": 1, "frames": 3,
+        "metrics": ["time", "cost", "convergence"], "reference": {"spp": 4})"));
+    StudyArgs a;
+    a.study = (d / "s.json").string();
+    a.out = (d / "out").string();
+    a.quiet = true;
+    REQUIRE(run_study(a) == 0);
+    CsvTable t = read_csv(d / "out/results.csv");
+    REQUIRE(t.rows.size() == 6);  // 2 configurations x 3 frames
+    std::map<std::pair<std::string, std::string>, double> rays, closest;  // (BSDF candidates, frame) -> rays_px, closest_px
+    for (const auto& r : t.rows) {
+      const double c = std::stod(r[size_t(t.col("closest_px"))]), y = std::stod(r[size_t(t.col("any_px"))]);
+      CHECK(c >= 1.0);  // a camera ray a pixel at least
+      CHECK(y > 0);
+      CHECK(std::stod(r[size_t(t.col("rays_px"))]) == doctest::Approx(c + y));
+      CHECK(std::stod(r[size_t(t.col("bytes_px"))]) > 2.0 * sizeof(GSurface));
+      rays[{r[size_t(t.col("di.bsdf_candidates"))], r[size_t(t.col("frame"))]}] = c + y;
+      closest[{r[size_t(t.col("di.bsdf_candidates"))], r[size_t(t.col("frame"))]}] = c;
+    }
+    for (const char* f : {"0", "1", "2"}) {  // at most a closest-hit ray per BSDF candidate (none where the sample fails)
+      CHECK(closest[{"2", f}] - closest[{"0", f}] > 0.5);
+      CHECK(closest[{"2", f}] - closest[{"0", f}] <= 2.0);
+    }
+    CHECK(rays[{"0", "1"}] > rays[{"0", "0"}]);  // temporal reuse's shadow rays, from frame 1 on
     fs::remove_all(d);
   }
 
