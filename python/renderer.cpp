@@ -109,7 +109,9 @@ class PyRenderer {
     const auto poll = signal_poll();
     try {
       nb::gil_scoped_release unlocked;
+      has_frame_ = false;
       frame_ms_ = renderer_->render_frame(key, o.render.frames, image_, &stages_, poll);
+      has_frame_ = true;
     } catch (const Interrupted&) {
       // A frame stopped half way leaves a half-updated history: start over at frame 0.
       renderer_->reset(Options(renderer_->options()));
@@ -131,7 +133,25 @@ class PyRenderer {
       nb::gil_scoped_release unlocked;
       renderer_->reset(o);
     }
+    has_frame_ = false;
     camera_ = std::move(camera);
+  }
+
+  // The last frame in the integrator's own buffer, without a copy (FrameRenderer::frame_buffer): a
+  // DLPack array on the backend's device, which keeps the buffer (and this renderer) alive.
+  nb::ndarray<nb::array_api> frame_buffer() {
+    const std::unique_lock busy = claim("frame_buffer");
+    if (!has_frame_) throw std::runtime_error("frame_buffer(): no frame rendered since the Renderer was made, reset() or seek()");
+    auto* keep = new std::pair<std::shared_ptr<const void>, nb::object>{nullptr, nb::borrow(nb::find(this))};
+    const FrameBuffer fb = renderer_->frame_buffer(&keep->first);
+    nb::capsule owner(keep, [](void* p) noexcept { delete static_cast<std::pair<std::shared_ptr<const void>, nb::object>*>(p); });
+    if (!fb.rgb)
+      throw std::runtime_error("frame_buffer(): this frame has no buffer of its own in the backend's memory (ssr; restir-pt with "
+                               "pt.direct=restir-di, which adds ReSTIR DI's image on the host; denoise.method=asvgf, which renders "
+                               "the previous frame into it again): use image()");
+    const size_t shape[3] = {size_t(image_.height), size_t(image_.width), 3};
+    return nb::ndarray<nb::array_api>(const_cast<float*>(fb.rgb), 3, shape, owner, nullptr, nb::dtype<float>(),
+                         fb.on_device ? nb::device::cuda::value : nb::device::cpu::value, fb.device_id);
   }
 
   // The next frame is `frame` of the sequence, the history dropped (FrameRenderer::seek).
@@ -139,6 +159,7 @@ class PyRenderer {
     const std::unique_lock busy = claim("seek");
     nb::gil_scoped_release unlocked;
     renderer_->seek(frame);
+    has_frame_ = false;
   }
 
   nb::dict stage_times() const {
@@ -204,6 +225,7 @@ class PyRenderer {
     return lock;
   }
   std::mutex busy_;
+  bool has_frame_ = false;  // the integrator's buffer holds a frame (frame_buffer())
   Camera camera_;
   StageTimes stages_;
 };
@@ -249,6 +271,12 @@ void bind_renderer(nb::module_& m) {
       .def("reset", [](PyRenderer& r, std::optional<nb::dict> options) { r.reset(dict_or_none(options)); },
            nb::arg("options") = nb::none(),
            "New option values (film size excepted) on top of the current ones; the history restarts at frame 0.")
+      .def("frame_buffer", &PyRenderer::frame_buffer,
+           "The last frame in the integrator's own buffer, H x W x 3 float32, without a copy, as a DLPack array on the "
+           "backend's device: host memory for render.backend cpu / cpu-bvh (numpy.from_dlpack), the GPU's for cuda "
+           "(torch.from_dlpack, cupy.from_dlpack). Before any denoiser. Overwritten by the next frame; the array keeps "
+           "the buffer alive, so after reset() or seek() it still shows the frame it showed. Not for ssr, restir-pt "
+           "with pt.direct=restir-di or denoise.method=asvgf (RuntimeError: use image()).")
       .def("seek", &PyRenderer::seek, nb::arg("frame"),
            "The next render_frame() renders frame `frame` of the sequence (0 <= frame < frames): the animated scene's "
            "pose, the camera path's key and the random streams of that frame, with no history (the integrator starts "

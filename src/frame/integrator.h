@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "frame/frame_buffer.h"
 #include "frame/frame_world.h"
 #include "frame/options.h"
 #include "frame/planted_bias.h"
@@ -90,6 +91,12 @@ class Integrator {
   // Bytes of every buffer the integrator holds (capacities, in the backend's memory): its state,
   // which the benchmarks report per pixel (issue 48's compact-state targets). 0: not reported.
   virtual size_t buffer_bytes() const { return 0; }
+  // The last frame in the integrator's own buffer, in the backend's memory (the chains' or samples'
+  // average, before any denoiser): height x width RGB float triples, overwritten by the next
+  // frame, freed with the integrator. Null where the frame has no such buffer (ssr) or gets more
+  // on the host (restir-pt with pt.direct = restir-di adds ReSTIR DI's image there). The Python
+  // API hands it over without a copy (frame_buffer.h).
+  virtual FrameBuffer frame_buffer() const { return {}; }
 };
 
 // The bytes an execution policy's array holds (Exec::Array<T>: capacity elements).

@@ -252,6 +252,11 @@ void FrameRenderer::set_ray_log(RayLog* log) { accel_->set_ray_log(log); }
 
 size_t FrameRenderer::buffer_bytes() const { return integrator_->buffer_bytes(); }
 
+FrameBuffer FrameRenderer::frame_buffer(std::shared_ptr<const void>* owner) const {
+  if (owner) *owner = integrator_;
+  return integrator_->frame_buffer();
+}
+
 RenderResult render(const Scene& scene, const Options& o, const RenderHooks& hooks) {
   validate_options(o);
   Camera camera = scene.camera;

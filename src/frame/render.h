@@ -8,6 +8,7 @@
 
 #include "image/image.h"
 #include "frame/aov.h"
+#include "frame/frame_buffer.h"
 #include "frame/options.h"
 #include "frame/planted_bias.h"
 #include "frame/stage_times.h"
@@ -91,6 +92,10 @@ class FrameRenderer {
   int frames_rendered() const { return frame_; }
   // The integrator's buffers (Integrator::buffer_bytes): its state, for the state per pixel.
   size_t buffer_bytes() const;
+  // The last frame in the integrator's own buffer (Integrator::frame_buffer), overwritten by the
+  // next frame. *owner (unless null) keeps that buffer alive: holding it, the view stays valid after
+  // reset() or seek() replaced the integrator (showing the frame it showed) and after this renderer.
+  FrameBuffer frame_buffer(std::shared_ptr<const void>* owner = nullptr) const;
   // Build the AOVs of every frame from now on, even without a denoiser (which needs them anyway).
   void request_aovs(bool on) { aovs_requested_ = on; }
   // The last frame's AOVs: empty (width 0) unless requested or denoise.method != none.
@@ -122,7 +127,8 @@ class FrameRenderer {
   std::unique_ptr<Accel> previous_accel_;
   int previous_shown_ = -1;  // the frame previous_scene_ shows
   std::unique_ptr<ThreadLimit> limit_;
-  std::unique_ptr<Integrator> integrator_;
+  // Shared: a frame_buffer() view may keep a replaced integrator's buffer (and so the integrator) alive.
+  std::shared_ptr<Integrator> integrator_;
   std::unique_ptr<Denoiser> denoiser_;  // the post-process stage (null: denoise.method = none)
   bool aovs_requested_ = false;
   Aovs aovs_;

@@ -415,6 +415,7 @@ class ReservoirFrame : public Integrator {
       }
     }
     render_chains_of(frame, out);
+    sum_is_frame_ = true;
   }
 
   // A-SVGF: frame f-1 rendered again, in frame f's scene, from the copy of the history it started
@@ -423,6 +424,11 @@ class ReservoirFrame : public Integrator {
   // history is exchanged with the copy and back, so frame f+1 starts from frame f's history.
   bool rerenders_previous() const override { return true; }
   void keep_history(bool on) override { keep_history_ = on; }
+  FrameBuffer frame_buffer() const override {
+    static_assert(sizeof(Rgb) == 3 * sizeof(float));
+    if (!sum_is_frame_) return {};
+    return {reinterpret_cast<const float*>(sum_.data), Exec::kOnDevice, Exec::device_id()};
+  }
   size_t buffer_bytes() const override {
     size_t b = array_bytes(sum_);
     for (const auto& c : chains_) b += c->bytes();
@@ -441,6 +447,7 @@ class ReservoirFrame : public Integrator {
     exchange();
     render_chains_of(previous, out);
     exchange();
+    sum_is_frame_ = false;  // sum_ holds the previous frame again, not the frame shown
   }
 
  protected:
@@ -484,6 +491,7 @@ class ReservoirFrame : public Integrator {
   // A-SVGF (keep_history): per chain, the history frame f-1 started from and the one frame f did.
   bool keep_history_ = false;
   std::vector<std::unique_ptr<History>> started_previous_, started_current_;
+  bool sum_is_frame_ = false;  // sum_ holds the last frame rendered (not a rerendered previous one)
 };
 
 }  // namespace rl

@@ -1,9 +1,13 @@
 """image() is a view of the renderer's buffer: no copy, valid while the renderer lives, and a
-1000-frame loop does not grow the process."""
+1000-frame loop does not grow the process; frame_buffer() hands over the integrator's own buffer
+(DLPack)."""
 import gc
 import os
 
 import numpy as np
+import pytest
+
+from conftest import CORNELL
 
 W, H = 16, 16
 
@@ -72,3 +76,44 @@ def test_renderer_keeps_its_scene(rl):
     gc.collect()
     r.render_frame()
     assert r.image().any()
+
+
+@pytest.mark.parametrize("backend,integrator,sets", [
+    ("cpu", "restir-di", {}),
+    ("cpu-bvh", "restir-pt", {"path.max_depth": 3}),
+    ("cpu", "pt", {"path.max_depth": 3}),
+])
+def test_frame_buffer_is_the_integrators_own_buffer(rl, backend, integrator, sets):
+    """frame_buffer(): the integrator's buffer in the backend's memory as a DLPack array, no copy
+    (host memory here; the GPU's on the CUDA backend): it equals image(), shows the next frame
+    after render_frame(), and keeps the buffer alive across reset()."""
+    r = rl.Renderer(rl.load_scene(CORNELL), integrator, {"film.width": 24, "film.height": 16, "render.backend": backend, **sets},
+                    spp=1, frames=4)
+    with pytest.raises(RuntimeError, match="no frame rendered"):
+        r.frame_buffer()
+    r.render_frame()
+    fb = r.frame_buffer()
+    assert fb.__dlpack_device__() == (1, 0)  # kDLCPU, device 0
+    a = np.from_dlpack(fb)
+    assert a.shape == (16, 24, 3) and a.dtype == np.float32
+    assert np.array_equal(a, r.image())
+    first = a.copy()
+    r.render_frame()
+    assert np.array_equal(a, r.image()) and not np.array_equal(a, first)  # a view of the buffer the next frame went into
+    shown = a.copy()
+    r.reset()  # a new integrator: the old one's buffer lives on while the array does
+    r.render_frame()
+    assert np.array_equal(a, shown)
+
+
+@pytest.mark.parametrize("integrator,sets", [
+    ("restir-pt", {"pt.direct": "restir-di"}),  # ReSTIR DI's image is added on the host
+    ("restir-di", {"denoise.method": "asvgf"}),  # the previous frame is rendered into the buffer again
+    ("ssr", {}),
+])
+def test_frame_buffer_refused_where_the_buffer_is_not_the_frame(rl, integrator, sets):
+    r = rl.Renderer(rl.load_scene(CORNELL), integrator, {"film.width": 8, "film.height": 8, **sets}, spp=1, frames=3)
+    r.render_frame()
+    r.render_frame()
+    with pytest.raises(RuntimeError, match="use image"):
+        r.frame_buffer()

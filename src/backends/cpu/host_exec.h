@@ -14,6 +14,7 @@
 //   Exec::select(n, keep, out, what)  writes the i < n with keep(i) to out[], returns how many: in
 //                                     order here, in any order on a device (consumers read by owner)
 //   Exec::kWaveItems                  how many work items a wavefront keeps in flight (its buffers)
+//   Exec::kOnDevice, device_id()      whether the arrays are in a GPU's memory, and which GPU's
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -30,6 +31,9 @@ namespace rl {
 
 struct HostExec {
   using Store = HostStore;
+  // Where the arrays live (Integrator::FrameBuffer): host memory.
+  static constexpr bool kOnDevice = false;
+  static int device_id() { return 0; }
 
   template <class T>
   struct Array {

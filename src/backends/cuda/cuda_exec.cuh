@@ -38,6 +38,12 @@ __global__ void select_kernel(size_t n, Keep keep, uint32_t* out, uint32_t* coun
 
 struct CudaExec {
   using Store = DeviceStore;
+  static constexpr bool kOnDevice = true;
+  static int device_id() {
+    int d = 0;
+    check(cudaGetDevice(&d), "reading the current device");
+    return d;
+  }
   template <class T>
   using Array = DeviceArray<T>;
 

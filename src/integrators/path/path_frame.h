@@ -130,6 +130,16 @@ class PathFrame final : public Integrator {
   using Exec = typename B::Exec;
   explicit PathFrame(const RenderContext& ctx) : ctx_(ctx) {}
   bool rerenders_previous() const override { return true; }  // every frame a function of its FrameInfo alone
+  FrameBuffer frame_buffer() const override {
+    static_assert(sizeof(Rgb) == 3 * sizeof(float));
+    if (!sums_is_frame_) return {};
+    return {reinterpret_cast<const float*>(sums_.data), Exec::kOnDevice, Exec::device_id()};
+  }
+  // A-SVGF: the previous frame again (into sums_, which then no longer holds the frame shown).
+  void rerender_previous(const FrameInfo& previous, Image& out) override {
+    render_frame(previous, out);
+    sums_is_frame_ = false;
+  }
   size_t buffer_bytes() const override {
     return array_bytes(paths_) + array_bytes(live_) + array_bytes(next_live_) + array_bytes(rays_) + array_bytes(hits_) +
            array_bytes(shadows_) + array_bytes(alive_) + array_bytes(blocked_) + array_bytes(owner_) + array_bytes(kept_) +
@@ -158,6 +168,7 @@ class PathFrame final : public Integrator {
     StageTimer timer(frame.stages, "film");
     Exec::for_each(pixels, Average{sums_.data, float(spp)}, "averaging the pixels' samples");
     Exec::download(out.pixels.data(), sums_, pixels);
+    sums_is_frame_ = true;
   }
 
  private:
@@ -214,6 +225,7 @@ class PathFrame final : public Integrator {
   Array<uint8_t> alive_, blocked_;
   Array<uint32_t> owner_, kept_;  // the shadow queue's owners (live slots), the surviving live slots
   Array<Rgb> sums_;
+  bool sums_is_frame_ = false;  // sums_ holds the last frame rendered (not a rerendered previous one)
 };
 
 }  // namespace rl

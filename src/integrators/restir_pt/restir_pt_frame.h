@@ -80,6 +80,8 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     if (direct_) direct_->keep_history(on);
   }
   size_t buffer_bytes() const override { return Base::buffer_bytes() + (direct_ ? direct_->buffer_bytes() : 0); }
+  // With pt.direct = restir-di the frame is the paths' buffer plus ReSTIR DI's image, added on the host.
+  FrameBuffer frame_buffer() const override { return direct_ ? FrameBuffer{} : Base::frame_buffer(); }
   void rerender_previous(const FrameInfo& previous, Image& out) override {
     Base::rerender_previous(previous, out);
     if (direct_) add_direct_light(*direct_, previous, out, /*rerender=*/true);
