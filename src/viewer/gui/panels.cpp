@@ -121,7 +121,18 @@ void readouts(Gui& g) {
                      ImVec2(ImGui::GetContentRegionAvail().x, 60));
   }
   if (ImGui::TreeNodeEx("stages", ImGuiTreeNodeFlags_DefaultOpen)) {
-    for (const auto& [name, ms] : r.stages.ms) ImGui::Text("%-20s %8.2f ms", name.c_str(), ms);
+    // Each stage's time and, where it traced rays, its rays per pixel by kind (core/ray_counter.h).
+    const double px = std::max(1.0, double(r.width) * double(r.height));
+    for (const auto& [name, ms] : r.stages.ms) {
+      const RayCounts c = r.stages.rays_of(name);
+      if (c.total() > 0)
+        ImGui::Text("%-20s %8.2f ms  %5.2f + %5.2f rays/px", name.c_str(), ms, double(c.closest) / px, double(c.any) / px);
+      else
+        ImGui::Text("%-20s %8.2f ms", name.c_str(), ms);
+    }
+    const RayCounts all = r.stages.total_rays();
+    if (all.total() > 0)
+      ImGui::Text("rays per pixel: %.2f closest-hit + %.2f any-hit", double(all.closest) / px, double(all.any) / px);
     ImGui::TreePop();
   }
 }
