@@ -78,8 +78,7 @@ void write_outputs(const std::string& exr, const std::string& png, const Image& 
 
 // --timings: one row per frame, its wall time and each stage's (stage_times.h); a stage a frame did
 // not run (e.g. temporal reuse on frame 0) is 0. Then the rays per pixel each stage traced, by kind
-// (closest hit, any hit), and the frame's totals (core/ray_counter.h; integrators whose stages
-// count rays: every one but ssr).
+// (closest hit, any hit), and the frame's totals (core/ray_counter.h: every integrator counts).
 std::string timings_csv(const RenderResult& r, size_t pixels) {
   const std::vector<std::string> names = stage_names(r.frame_stages), ray_names = ray_stage_names(r.frame_stages);
   std::string csv = "frame,ms";

@@ -146,7 +146,7 @@ class PyRenderer {
     const FrameBuffer fb = renderer_->frame_buffer(&keep->first);
     nb::capsule owner(keep, [](void* p) noexcept { delete static_cast<std::pair<std::shared_ptr<const void>, nb::object>*>(p); });
     if (!fb.rgb)
-      throw std::runtime_error("frame_buffer(): this frame has no buffer of its own in the backend's memory (ssr; restir-pt with "
+      throw std::runtime_error("frame_buffer(): this frame has no buffer of its own in the backend's memory (restir-pt with "
                                "pt.direct=restir-di, which adds ReSTIR DI's image on the host; denoise.method=asvgf, which renders "
                                "the previous frame into it again): use image()");
     const size_t shape[3] = {size_t(image_.height), size_t(image_.width), 3};
@@ -275,7 +275,7 @@ void bind_renderer(nb::module_& m) {
            "The last frame in the integrator's own buffer, H x W x 3 float32, without a copy, as a DLPack array on the "
            "backend's device: host memory for render.backend cpu / cpu-bvh (numpy.from_dlpack), the GPU's for cuda "
            "(torch.from_dlpack, cupy.from_dlpack). Before any denoiser. Overwritten by the next frame; the array keeps "
-           "the buffer alive, so after reset() or seek() it still shows the frame it showed. Not for ssr, restir-pt "
+           "the buffer alive, so after reset() or seek() it still shows the frame it showed. Not for restir-pt "
            "with pt.direct=restir-di or denoise.method=asvgf (RuntimeError: use image()).")
       .def("seek", &PyRenderer::seek, nb::arg("frame"),
            "The next render_frame() renders frame `frame` of the sequence (0 <= frame < frames): the animated scene's "
@@ -290,7 +290,7 @@ void bind_renderer(nb::module_& m) {
       .def("stage_times", &PyRenderer::stage_times, "Wall time (ms) of each stage of the last frame.")
       .def("ray_counts", &PyRenderer::ray_counts,
            "Rays each stage of the last frame traced: {stage: {'closest': n, 'any': n}}, and 'frame' for all of them "
-           "(divide by film.width * film.height for rays per pixel). Every integrator but ssr counts.")
+           "(divide by film.width * film.height for rays per pixel).")
       .def("options", &PyRenderer::options, "Every option's value as text, as `restir render` echoes them.")
       .def("camera", &PyRenderer::camera_at, nb::arg("frame"), "The scene's camera (path) at a frame of the sequence.")
       .def_prop_ro("frame_ms", [](const PyRenderer& r) { return r.frame_ms_; }, "Wall time (ms) of the last frame.")

@@ -5,6 +5,7 @@
 // a backend's running totals before and after each stage (stage_times.h). The counts are sums of
 // integers, so they do not depend on the thread count or schedule.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -26,17 +27,23 @@ struct RayCounts {
   friend bool operator==(const RayCounts&, const RayCounts&) = default;
 };
 
-// The counter slots: kRaySlots cache lines, each holding [closest, any] of the threads (host) or
-// blocks (device) mapped to it, so that threads rarely share a line. 64 x 64 bytes.
-inline constexpr uint32_t kRaySlots = 64, kRaySlotStride = 8;  // uint64 per slot: one 64-byte line
+// The counter slots: kRaySlots cache lines, each holding [closest, any]. On the host, each of the
+// first kRaySlots - 1 threads that count owns one (no other thread writes it, so a plain
+// increment is safe: the readers read after the stage's threads joined), and every later thread
+// shares the last one through atomics; on the device, blocks share slots through warp-aggregated
+// atomics. 65 x 64 bytes.
+inline constexpr uint32_t kRaySlots = 65, kRaySlotStride = 8;  // uint64 per slot: one 64-byte line
 inline constexpr size_t kRaySlotWords = size_t(kRaySlots) * kRaySlotStride;
 
 #ifndef __CUDA_ARCH__
-// This host thread's slot: threads numbered in the order they first count, modulo kRaySlots.
+// This host thread's slot, numbered in the order threads first count: its own for the first
+// kRaySlots - 1 threads of the process, the shared last one after them. Zero-initialized thread
+// storage (no guard on the hot path): 0 means not numbered yet.
 inline uint32_t host_ray_slot() {
   static std::atomic<uint32_t> next{0};
-  thread_local const uint32_t slot = next.fetch_add(1, std::memory_order_relaxed) % kRaySlots;
-  return slot;
+  thread_local uint32_t slot_plus_one = 0;
+  if (slot_plus_one == 0) slot_plus_one = std::min(next.fetch_add(1, std::memory_order_relaxed), kRaySlots - 1) + 1;
+  return slot_plus_one - 1;
 }
 #endif
 
@@ -60,8 +67,13 @@ struct RayCounter {
                 static_cast<unsigned long long>(__popc(peers)));
     }
 #else
-    // Relaxed: the totals are read after the stage's threads joined (the policy's for_pixels).
-    __atomic_fetch_add(slots + host_ray_slot() * kRaySlotStride + (any_hit ? 1 : 0), uint64_t(1), __ATOMIC_RELAXED);
+    const uint32_t slot = host_ray_slot();
+    uint64_t* c = slots + slot * kRaySlotStride + (any_hit ? 1 : 0);
+    if (slot < kRaySlots - 1) {
+      __atomic_store_n(c, __atomic_load_n(c, __ATOMIC_RELAXED) + 1, __ATOMIC_RELAXED);  // its own slot: no lock
+    } else {
+      __atomic_fetch_add(c, uint64_t(1), __ATOMIC_RELAXED);  // the shared slot of the threads past the first 64
+    }
 #endif
   }
 };

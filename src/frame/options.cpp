@@ -234,11 +234,6 @@ void validate_options(const Options& o) {
   // No candidate at all: every ReSTIR DI pixel would be black, silently.
   if (o.integrator == "restir-di" && o.di.light_candidates == 0 && o.di.bsdf_candidates == 0)
     throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");
-  // The BVH backends run pt and the ReSTIR integrators; ssr still traces ray by ray on the CPU,
-  // and running it "on cuda" would silently run it on the CPU.
-  if (o.render.backend != Backend::cpu && o.integrator == "ssr")
-    throw OptionError(fmt::format("render.backend = {}: ssr runs on the cpu backend only (pt, restir-di, restir-gi and restir-pt run on every backend)",
-                                  enum_name(o.render.backend)));
   check_paired_reuse(o);
   check_rgb_weights(o);
   if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)

@@ -301,7 +301,7 @@ void visit_options(O& o, V& v) {
   v("render.threads", o.render.threads, "worker threads, 0 = all cores (the image does not depend on it)", Range{0, 1024});
   v("render.backend", o.render.backend,
     "where the frame is computed: cpu (Embree, all cores), cuda (an NVIDIA GPU: the scene, its BVH and every stage "
-    "on the device; builds with -DRESTIR_CUDA=ON; pt and ReSTIR DI, GI, PT; not ssr) or cpu-bvh (the CUDA backend's "
+    "on the device; builds with -DRESTIR_CUDA=ON; every integrator) or cpu-bvh (the CUDA backend's "
     "code, its own BVH, on the CPU's cores: slower than cpu, for checking the GPU path on a machine without one)");
   v("render.sample_pattern", o.render.sample_pattern,
     "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "

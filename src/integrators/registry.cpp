@@ -23,6 +23,7 @@ std::unique_ptr<Integrator> make_path_tracer_cuda(const RenderContext& ctx);
 std::unique_ptr<Integrator> make_restir_di_cuda(const RenderContext& ctx);
 std::unique_ptr<Integrator> make_restir_gi_cuda(const RenderContext& ctx);
 std::unique_ptr<Integrator> make_restir_pt_cuda(const RenderContext& ctx);
+std::unique_ptr<Integrator> make_ssr_cuda(const RenderContext& ctx);
 #define RL_CUDA_MAKER(f) &f
 #else
 #define RL_CUDA_MAKER(f) nullptr
@@ -39,7 +40,7 @@ const std::vector<IntegratorInfo>& integrator_registry() {
       {"restir-pt", "ReSTIR PT, path reuse with reconnection / random replay / hybrid shifts (pt.*)", "path pt di", &check_restir_pt,
        &make_restir_pt, RL_CUDA_MAKER(make_restir_pt_cuda)},
       {"ssr", "screen-space reflections: direct light plus reflections marched in the depth buffer (ssr.*); biased by design", "ssr path",
-       &check_ssr, &make_ssr, nullptr},
+       &check_ssr, &make_ssr, RL_CUDA_MAKER(make_ssr_cuda)},
   };
   return registry;
 }

@@ -31,7 +31,7 @@ class PerspectiveCamera {
     return raster.x >= 0 && raster.y >= 0 && raster.x < float(width_) && raster.y < float(height_);
   }
   RESTIR_HD Vec3 position() const { return position_; }
-  Vec3 forward() const { return forward_; }
+  RESTIR_HD Vec3 forward() const { return forward_; }
   RESTIR_HD int width() const { return width_; }
   RESTIR_HD int height() const { return height_; }
 

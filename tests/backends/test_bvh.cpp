@@ -235,9 +235,7 @@ TEST_SUITE("bvh") {
     CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
     o.integrator = "restir-gi";
     CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
-    o.integrator = "ssr";  // not on the BVH backends yet: said so, not run on the CPU
-    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("ssr runs on the cpu backend only"), OptionError);
-    o.render.backend = Backend::cpu_bvh;
-    CHECK_THROWS_WITH_AS(render(scene, o), doctest::Contains("render.backend = cpu-bvh: ssr runs on the cpu backend only"), OptionError);
+    o.integrator = "ssr";  // every integrator runs on every backend (issue 48: ssr too)
+    CHECK_THROWS_WITH_AS(FrameRenderer(scene, o), doctest::Contains("render.backend = cuda"), OptionError);
   }
 }

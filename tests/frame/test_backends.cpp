@@ -109,6 +109,17 @@ TEST_SUITE("backends") {
             {"teapot.pbrt", {"render.debug_view=reconnection-depth"}},           // a debug view (and its histogram)
         });
   }
+
+  // Issue 48: ssr on every backend (its frame: ssr_frame.h).
+  TEST_CASE("ssr: the cpu-bvh backend renders what the cpu backend renders, frame by frame") {
+    check_twin("ssr", 0.97, 64, 48,
+               {
+                   {"mirror-floor.pbrt", {}},                                        // mirror reflections, the Hi-Z march
+                   {"teapot-table.pbrt", {"ssr.hi_z=false", "ssr.rays=2"}},           // glossy: the resolve; the linear march
+                   {"mirror-floor.pbrt", {"ssr.temporal=true", "render.spp=2"}},      // the temporal blend, two samples
+                   {"dynamic-room.pbrt", {"ssr.temporal=true", "ssr.roughness_cutoff=1"}},  // animated: motion vectors
+               });
+  }
 }
 
 namespace {

@@ -73,6 +73,7 @@ const std::vector<Case> kCases = {
     {"cornell-box.pbrt", "restir-pt", {"path.max_depth=4"}},
     {"cornell-box.pbrt", "restir-pt", {"path.max_depth=4", "pt.shift=random-replay", "pt.spatial_pairing=paired"}},
     {"cornell-box.pbrt", "restir-pt", {"path.max_depth=4", "pt.direct=restir-di"}},
+    {"mirror-floor.pbrt", "ssr", {"ssr.temporal=true"}},
 };
 
 }  // namespace
@@ -94,7 +95,11 @@ TEST_SUITE("ray_counts") {
       const uint64_t pixels = uint64_t(o.film.width) * uint64_t(o.film.height);
       for (const StageTimes& st : r.frames) {
         for (const auto& [name, rays] : st.rays) CHECK(st.of(name) > 0);  // every counted stage was timed
-        if (c.integrator == "pt") {
+        if (c.integrator == "ssr") {
+          CHECK(st.rays_of("primary") == RayCounts{pixels, 0});  // the camera rays, one queue
+          CHECK(st.rays_of("direct").total() > 0);                // the lit colour: the path tracer at depth 1
+          CHECK(st.rays_of("reflections").total() == 0);          // marched through the screen: no ray
+        } else if (c.integrator == "pt") {
           CHECK(st.rays_of("camera").total() == 0);  // the camera stage makes rays, "intersect" traces them
           CHECK(st.rays_of("intersect").closest >= pixels);
           CHECK(st.rays_of("shadow").any > 0);

@@ -82,6 +82,7 @@ def test_renderer_keeps_its_scene(rl):
     ("cpu", "restir-di", {}),
     ("cpu-bvh", "restir-pt", {"path.max_depth": 3}),
     ("cpu", "pt", {"path.max_depth": 3}),
+    ("cpu-bvh", "ssr", {"ssr.temporal": True}),
 ])
 def test_frame_buffer_is_the_integrators_own_buffer(rl, backend, integrator, sets):
     """frame_buffer(): the integrator's buffer in the backend's memory as a DLPack array, no copy
@@ -109,7 +110,6 @@ def test_frame_buffer_is_the_integrators_own_buffer(rl, backend, integrator, set
 @pytest.mark.parametrize("integrator,sets", [
     ("restir-pt", {"pt.direct": "restir-di"}),  # ReSTIR DI's image is added on the host
     ("restir-di", {"denoise.method": "asvgf"}),  # the previous frame is rendered into the buffer again
-    ("ssr", {}),
 ])
 def test_frame_buffer_refused_where_the_buffer_is_not_the_frame(rl, integrator, sets):
     r = rl.Renderer(rl.load_scene(CORNELL), integrator, {"film.width": 8, "film.height": 8, **sets}, spp=1, frames=3)

@@ -1,198 +1,28 @@
 #include "integrators/ssr/ssr_march.h"
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 namespace rl {
 
-namespace {
-
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// The ray as a screen-space segment: raster positions and view depths of its ends. Under a
-// perspective projection 1/z and p/z are linear in screen space (McGuire and Mara 2014, §2), so
-// the view depth at screen fraction a is 1 / lerp(1/z0, 1/z1, a).
-struct ScreenSegment {
-  Vec2 s0, s1;
-  float z0 = 0, z1 = 0;
-  float pixels = 0;  // length along the major axis, in pixels
-  Vec2 at(float a) const { return s0 + (s1 - s0) * a; }
-  Vec3 o, e;  // world positions of the ends
-  float z_at(float a) const { return 1.0f / ((1 - a) / z0 + a / z1); }
-  Vec3 point_at(float a) const { return (o * ((1 - a) / z0) + e * (a / z1)) * z_at(a); }
-};
-
-// Clips the ray to the near plane and the scene's extent and projects it; false when it starts
-// behind the near plane or spans no pixel.
-bool make_segment(const PerspectiveCamera& camera, Vec3 o, Vec3 d, float max_distance, ScreenSegment& seg) {
-  const Vec3 cam = camera.position(), fwd = camera.forward();
-  seg.z0 = dot(o - cam, fwd);
-  const float near = 1e-4f * std::max(1.0f, max_distance);
-  if (!(seg.z0 > near)) return false;
-  float t1 = max_distance;
-  const float dz = dot(d, fwd);
-  if (dz < 0) t1 = std::min(t1, (near - seg.z0) / dz);
-  const Vec3 e = o + d * t1;
-  seg.o = o;
-  seg.e = e;
-  seg.z1 = dot(e - cam, fwd);
-  camera.project(o, seg.s0);  // raster positions, on the film or not (both ends are in front)
-  camera.project(e, seg.s1);
-  seg.pixels = std::max(std::fabs(seg.s1.x - seg.s0.x), std::fabs(seg.s1.y - seg.s0.y));
-  return seg.pixels >= 1e-3f && std::isfinite(seg.pixels);
+HiZLayout hiz_layout(int width, int height) {
+  HiZLayout l;
+  int w = width, h = height;
+  for (;;) {
+    l.width[l.levels] = w, l.height[l.levels] = h, l.offset[l.levels] = l.total;
+    l.total += size_t(w) * size_t(h);
+    ++l.levels;
+    if ((w <= 1 && h <= 1) || l.levels == kMaxHiZLevels) break;
+    w = (w + 1) / 2, h = (h + 1) / 2;
+  }
+  return l;
 }
-
-bool on_film(Vec2 s, int w, int h) { return s.x >= 0 && s.y >= 0 && s.x < float(w) && s.y < float(h); }
-
-// The ray arrived on the side of the pixel's surface that the camera sees, whichever way the
-// mesh's winding points the normal.
-bool faces_ray(const GSurface& s, Vec3 d) {
-  const Vec3 seen = dot(s.ng, s.wo) >= 0 ? s.ng : -s.ng;
-  return dot(seen, d) < 0;
-}
-
-// Screen fraction at which the segment leaves the axis-aligned cell [x0, x1) x [y0, y1).
-float exit_fraction(const ScreenSegment& seg, float x0, float x1, float y0, float y1) {
-  const Vec2 ds = seg.s1 - seg.s0;
-  float a = kInf;
-  if (ds.x > 0) a = std::min(a, (x1 - seg.s0.x) / ds.x);
-  if (ds.x < 0) a = std::min(a, (x0 - seg.s0.x) / ds.x);
-  if (ds.y > 0) a = std::min(a, (y1 - seg.s0.y) / ds.y);
-  if (ds.y < 0) a = std::min(a, (y0 - seg.s0.y) / ds.y);
-  return a;
-}
-
-}  // namespace
 
 void HiZPyramid::build(const PerspectiveCamera& camera, const GBuffer& g) {
-  const Vec3 cam = camera.position(), fwd = camera.forward();
-  levels.resize(1);
-  Level& l0 = levels[0];
-  l0.width = g.width;
-  l0.height = g.height;
-  l0.z.resize(g.pixels.size());
-  for (size_t i = 0; i < g.pixels.size(); ++i)
-    l0.z[i] = g.pixels[i].valid ? dot(g.pixels[i].p - cam, fwd) : kInf;
-  while (levels.back().width > 1 || levels.back().height > 1) {
-    const Level& fine = levels.back();
-    Level coarse;
-    coarse.width = (fine.width + 1) / 2;
-    coarse.height = (fine.height + 1) / 2;
-    coarse.z.assign(size_t(coarse.width) * size_t(coarse.height), kInf);
-    for (int y = 0; y < fine.height; ++y)
-      for (int x = 0; x < fine.width; ++x) {
-        float& c = coarse.z[size_t(y / 2) * size_t(coarse.width) + size_t(x / 2)];
-        c = std::min(c, fine.at(x, y));
-      }
-    levels.push_back(std::move(coarse));
-  }
-}
-
-MarchResult march_linear(const PerspectiveCamera& camera, const GBuffer& g, const HiZPyramid& hiz, Vec3 o, Vec3 d,
-                         float max_distance, int max_steps, float thickness) {
-  MarchResult r;
-  ScreenSegment seg;
-  if (!make_segment(camera, o, d, max_distance, seg)) return r;
-  const HiZPyramid::Level& depth = hiz.levels[0];
-  const int steps = std::min(max_steps, int(std::ceil(seg.pixels)));
-  // How far the point at fraction a is behind the visible surface of its pixel (< 0: in front;
-  // NaN: off the film); the pixel in x, y.
-  auto probe = [&](float a, int& x, int& y) {
-    const Vec2 s = seg.at(a);
-    if (!on_film(s, g.width, g.height)) return std::numeric_limits<float>::quiet_NaN();
-    x = int(s.x);
-    y = int(s.y);
-    const float zs = depth.at(x, y);
-    return zs == kInf ? -1.0f : seg.z_at(a) - zs;
-  };
-  auto in_slab = [&](float behind, int x, int y) { return behind > 0 && behind <= thickness * depth.at(x, y); };
-  float a_prev = 0;
-  for (int i = 1; i <= steps; ++i) {
-    r.steps = i;
-    const float a = float(i) / float(steps);
-    int x, y;
-    const float behind = probe(a, x, y);
-    if (std::isnan(behind)) return r;  // left the film
-    if (in_slab(behind, x, y)) {
-      // Bisection between the last point in front and this one, for the pixel where it crosses.
-      float lo = a_prev, hi = a;
-      for (int k = 0; k < 6; ++k) {
-        const float mid = 0.5f * (lo + hi);
-        int mx, my;
-        const float b = probe(mid, mx, my);
-        if (!std::isnan(b) && in_slab(b, mx, my)) {
-          hi = mid;
-          x = mx;
-          y = my;
-        } else {
-          lo = mid;
-        }
-      }
-      if (!faces_ray(g.at(x, y), d)) return r;
-      r.hit = true;
-      r.x = x;
-      r.y = y;
-      return r;
-    }
-    if (behind <= 0) a_prev = a;
-  }
-  return r;
-}
-
-MarchResult march_hiz(const PerspectiveCamera& camera, const GBuffer& g, const HiZPyramid& hiz, Vec3 o, Vec3 d,
-                      float max_distance, int max_steps, float thickness) {
-  MarchResult r;
-  ScreenSegment seg;
-  if (!make_segment(camera, o, d, max_distance, seg)) return r;
-  const int top = int(hiz.levels.size()) - 1;
-  const float nudge = 1e-3f / seg.pixels;  // a thousandth of a pixel: past a cell's border
-  auto cell_exit = [&](float a, int level, int& cx, int& cy) {
-    const Vec2 s = seg.at(a);
-    cx = int(s.x) >> level;
-    cy = int(s.y) >> level;
-    const float x0 = float(cx << level), y0 = float(cy << level), size = float(1 << level);
-    return std::min(1.0f, exit_fraction(seg, x0, x0 + size, y0, y0 + size));
-  };
-  int cx, cy, level = 0;
-  float a = cell_exit(0, 0, cx, cy) + nudge;  // leave the pixel the ray starts in
-  while (a <= 1 && r.steps < max_steps) {
-    ++r.steps;
-    if (!on_film(seg.at(a), g.width, g.height)) return r;
-    const float a_exit = cell_exit(a, level, cx, cy);
-    const float za = seg.z_at(a), ze = seg.z_at(a_exit);
-    const float zc = hiz.levels[size_t(level)].at(cx, cy);
-    if (std::max(za, ze) < zc) {  // in front of everything the cell shows: skip it, widen the step
-      a = a_exit + nudge;
-      level = std::min(level + 1, top);
-      continue;
-    }
-    if (level > 0) {  // may pass behind something in this cell: look closer
-      --level;
-      continue;
-    }
-    // One pixel whose surface the ray reaches: a hit if it passes through the slab behind it and
-    // arrives on the seen side. A ray leaving the surface instead -- still in front of its tangent
-    // plane where it leaves the pixel, as a ray reflected at a grazing angle is over the surface it
-    // started from, whose depth changes across one pixel more than the ray rises -- goes on.
-    if (std::min(za, ze) <= zc * (1 + thickness)) {
-      const GSurface& sf = g.at(cx, cy);
-      if (!faces_ray(sf, d)) {
-        const Vec3 seen = dot(sf.ng, sf.wo) >= 0 ? sf.ng : -sf.ng;
-        if (dot(seg.point_at(a_exit) - sf.p, seen) > 0) {
-          a = a_exit + nudge;
-          continue;
-        }
-        return r;  // entered the back of something
-      }
-      r.hit = true;
-      r.x = cx;
-      r.y = cy;
-      return r;
-    }
-    a = a_exit + nudge;  // behind the slab: the ray passes under this surface
-  }
-  return r;
+  layout = hiz_layout(g.width, g.height);
+  z.assign(layout.total, ssr_detail::kInf);
+  for (size_t i = 0; i < g.pixels.size(); ++i) z[i] = hiz_depth(g.pixels[i], camera.position(), camera.forward());
+  const HiZView v = view();
+  for (int l = 1; l < layout.levels; ++l)
+    for (int y = 0; y < layout.height[l]; ++y)
+      for (int x = 0; x < layout.width[l]; ++x) z[layout.offset[l] + size_t(y) * size_t(layout.width[l]) + size_t(x)] = hiz_reduce(v, l, x, y);
 }
 
 }  // namespace rl

@@ -171,13 +171,16 @@ TEST_SUITE("ssr") {
       PerspectiveCamera cam(scene.camera.at_frame(0, 1), o.film.width, o.film.height);
       GBuffer g;
       build_gbuffer(ctx, cam, 0, 0, g);
-      HiZPyramid hiz;
-      hiz.build(cam, g);
+      HiZPyramid pyramid;
+      pyramid.build(cam, g);
+      const HiZView hiz = pyramid.view();
       // The pyramid holds the nearest depth of each cell.
-      for (size_t l = 1; l < hiz.levels.size(); ++l)
-        for (int y = 0; y < hiz.levels[l - 1].height; ++y)
-          for (int x = 0; x < hiz.levels[l - 1].width; ++x) REQUIRE(hiz.levels[l].at(x / 2, y / 2) <= hiz.levels[l - 1].at(x, y));
-      REQUIRE(hiz.levels.back().width == 1);
+      const HiZLayout& layout = hiz.layout;
+      for (int l = 1; l < layout.levels; ++l)
+        for (int y = 0; y < layout.height[l - 1]; ++y)
+          for (int x = 0; x < layout.width[l - 1]; ++x) REQUIRE(hiz.at(l, x / 2, y / 2) <= hiz.at(l - 1, x, y));
+      REQUIRE(layout.width[layout.levels - 1] == 1);
+      REQUIRE(layout.height[layout.levels - 1] == 1);
       const float extent = length(scene.bounds().diagonal());
       Pcg32 rng(7, 11);
       int judged = 0, right_linear = 0, right_hiz = 0, visible = 0;
@@ -202,8 +205,8 @@ TEST_SUITE("ssr") {
             if (!shown.valid || length(shown.p - q) > 0.02f * shown.depth) continue;  // hidden: no right answer
             ++visible;
           }
-          const MarchResult a = march_linear(cam, g, hiz, ray.o, d, extent, 1 << 16, 0.05f);
-          const MarchResult h = march_hiz(cam, g, hiz, ray.o, d, extent, 1 << 16, 0.05f);
+          const MarchResult a = march_linear(cam, view_of(g), hiz, ray.o, d, extent, 1 << 16, 0.05f);
+          const MarchResult h = march_hiz(cam, view_of(g), hiz, ray.o, d, extent, 1 << 16, 0.05f);
           auto right = [&](const MarchResult& m) {
             return tx < 0 ? !m.hit : m.hit && std::abs(m.x - tx) <= 1 && std::abs(m.y - ty) <= 1;
           };
