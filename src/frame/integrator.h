@@ -105,6 +105,15 @@ size_t array_bytes(const A& a) {
   return a.capacity * sizeof(*a.data);
 }
 
+// A frame's RGB array in execution policy Exec's memory as Integrator::frame_buffer (none unless
+// holds_frame: the array holds the frame shown).
+template <class Exec, class A>
+FrameBuffer frame_buffer_of(const A& rgb, bool holds_frame) {
+  static_assert(sizeof(*rgb.data) == 3 * sizeof(float), "RGB float triples");
+  if (!holds_frame) return {};
+  return {reinterpret_cast<const float*>(rgb.data), Exec::kOnDevice, Exec::device_id()};
+}
+
 // One row of the registry (src/integrators/registry.cpp): an algorithm, the option groups it
 // reads and how to make it on each backend. A new integrator is one folder and a row.
 struct IntegratorInfo {

@@ -424,11 +424,7 @@ class ReservoirFrame : public Integrator {
   // history is exchanged with the copy and back, so frame f+1 starts from frame f's history.
   bool rerenders_previous() const override { return true; }
   void keep_history(bool on) override { keep_history_ = on; }
-  FrameBuffer frame_buffer() const override {
-    static_assert(sizeof(Rgb) == 3 * sizeof(float));
-    if (!sum_is_frame_) return {};
-    return {reinterpret_cast<const float*>(sum_.data), Exec::kOnDevice, Exec::device_id()};
-  }
+  FrameBuffer frame_buffer() const override { return frame_buffer_of<Exec>(sum_, sum_is_frame_); }
   size_t buffer_bytes() const override {
     size_t b = array_bytes(sum_);
     for (const auto& c : chains_) b += c->bytes();

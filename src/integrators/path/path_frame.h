@@ -130,11 +130,7 @@ class PathFrame final : public Integrator {
   using Exec = typename B::Exec;
   explicit PathFrame(const RenderContext& ctx) : ctx_(ctx) {}
   bool rerenders_previous() const override { return true; }  // every frame a function of its FrameInfo alone
-  FrameBuffer frame_buffer() const override {
-    static_assert(sizeof(Rgb) == 3 * sizeof(float));
-    if (!sums_is_frame_) return {};
-    return {reinterpret_cast<const float*>(sums_.data), Exec::kOnDevice, Exec::device_id()};
-  }
+  FrameBuffer frame_buffer() const override { return frame_buffer_of<Exec>(sums_, sums_is_frame_); }
   // A-SVGF: the previous frame again (into sums_, which then no longer holds the frame shown).
   void rerender_previous(const FrameInfo& previous, Image& out) override {
     render_frame(previous, out);

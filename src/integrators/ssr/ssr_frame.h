@@ -176,10 +176,7 @@ class SsrFrame final : public Integrator {
     Exec::download(out.pixels.data(), sum_, n);
     sum_is_frame_ = true;
   }
-  FrameBuffer frame_buffer() const override {
-    if (!sum_is_frame_) return {};
-    return {reinterpret_cast<const float*>(sum_.data), Exec::kOnDevice, Exec::device_id()};
-  }
+  FrameBuffer frame_buffer() const override { return frame_buffer_of<Exec>(sum_, sum_is_frame_); }
   size_t buffer_bytes() const override {
     return array_bytes(rays_) + array_bytes(hits_) + array_bytes(g_) + array_bytes(previous_g_) + array_bytes(motion_) +
            array_bytes(hiz_) + array_bytes(lit_) + array_bytes(traced_) + array_bytes(sum_) + array_bytes(history_) +
