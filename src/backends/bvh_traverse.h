@@ -121,7 +121,7 @@ RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit
 // backend's kernels use it, and the host can run the same stages on the same BVH.
 struct BvhTracer {
   BvhView bvh;
-  RayCounter rays;  // each query counted while the frame counts them (core/ray_counter.h)
+  RayCounter rays{};  // each query counted while the frame counts them (core/ray_counter.h)
   RESTIR_HD bool occluded(const Ray& r) const {
     rays.add(true);
     return bvh_trace(bvh, r, true, nullptr);

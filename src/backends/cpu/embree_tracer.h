@@ -9,7 +9,7 @@ namespace rl {
 
 struct EmbreeTracer {
   const Accel* accel = nullptr;
-  RayCounter rays;
+  RayCounter rays{};
   bool occluded(const Ray& r) const {
     rays.add(true);
     return accel->occluded(r);
