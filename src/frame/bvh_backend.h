@@ -35,14 +35,15 @@ struct PrimaryStage {
   int frame, sample;
   const Mat4* back;
   uint32_t back_count;
-  GSurface* pixels;
+  GPacked* pixels;
+  Rgb* emitted;
   GMotion* motion;
   RESTIR_HD void operator()(int x, int y) const {
     const Ray ray = camera_ray(sampling, camera, x, y, frame, sample);
     Hit hit;
     const bool found = bvh_trace(bvh, ray, false, &hit);
     const size_t i = size_t(y) * size_t(camera.width()) + size_t(x);
-    fill_gsurface(w.scene, w.lights, ray, found ? &hit : nullptr, pixels[i], back, back_count, motion ? motion + i : nullptr);
+    fill_gpacked(w.scene, w.lights, ray, found ? &hit : nullptr, pixels[i], emitted[i], back, back_count, motion ? motion + i : nullptr);
   }
 };
 
@@ -130,12 +131,12 @@ struct BvhBackend {
     bool uploaded_ = false;
   };
 
-  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GSurface* pixels,
-                           GMotion* motion) {
+  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GPacked* pixels,
+                           Rgb* emitted, GMotion* motion) {
     const FrameWorld<Tracer>& fw = w.view();
     const PerspectiveCamera& camera = *frame.camera;
     const bvh_backend_detail::PrimaryStage stage{fw.world,   fw.tracer.bvh,      camera, camera_sampling(ctx.options), frame.index, sample,
-                                                 fw.back,    fw.animation_count, pixels, motion};
+                                                 fw.back,    fw.animation_count, pixels, emitted, motion};
     Exec::for_pixels(camera.width(), camera.height(), stage, "primary hits");
     w.tally().add(uint64_t(camera.width()) * uint64_t(camera.height()), false);  // a camera ray a pixel
   }

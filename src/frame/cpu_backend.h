@@ -8,7 +8,7 @@
 //   B::Exec                     the execution policy (host_exec.h documents it)
 //   B::Tracer                   the stages' ray queries (frame_world.h)
 //   B::World                    update(ctx, frame) before each frame; view(): its FrameWorld
-//   B::primary_hits(world, ctx, frame, sample, pixels, motion)   the G-buffer of one pixel sample
+//   B::primary_hits(world, ctx, frame, sample, pixels, emitted, motion)   the G-buffer of one pixel sample
 //   B::trace_closest(world, rays, hits, n, coherent)   a queue of rays: closest hits, no shading
 //   B::trace_any(world, rays, blocked, n)              a queue of rays: any hit (shadow rays)
 //   world.ray_totals()          the rays traced through the world so far, while frames count them
@@ -47,10 +47,10 @@ struct CpuBackend {
   };
 
   // Sample `sample`'s primary hits of every pixel into pixels[] and (unless null) motion[].
-  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GSurface* pixels,
-                           GMotion* motion) {
+  static void primary_hits(const World& w, const RenderContext& ctx, const FrameInfo& frame, int sample, GPacked* pixels,
+                           Rgb* emitted, GMotion* motion) {
     const FrameWorld<Tracer>& fw = w.view();
-    build_gbuffer(ctx, *frame.camera, frame.index, sample, fw.back, fw.animation_count, pixels, motion);
+    build_gbuffer(ctx, *frame.camera, frame.index, sample, fw.back, fw.animation_count, pixels, emitted, motion);
     w.tally().add(uint64_t(frame.camera->width()) * uint64_t(frame.camera->height()), false);  // a camera ray a pixel
   }
   // Embree's stream queries over parallel chunks of the queue; `coherent` (camera rays) lets it

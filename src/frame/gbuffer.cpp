@@ -28,7 +28,7 @@ std::vector<Mat4> motion_back(const Scene& scene, int frame) {
 // are fixed, so the G-buffer does not depend on the thread count. (The wavefront path tracer's
 // camera rays have gone through the same packets since issue 9.)
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, const Mat4* back,
-                   uint32_t back_count, GSurface* pixels, GMotion* motion) {
+                   uint32_t back_count, GPacked* pixels, Rgb* emitted, GMotion* motion) {
   const int width = camera.width();
   const CameraSampling cs = camera_sampling(ctx.options);
   const SceneView& scene = ctx.accel.scene_view();
@@ -44,8 +44,8 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x, ++n) {
         const size_t i = size_t(y) * size_t(width) + size_t(x);
-        fill_gsurface(scene, lights, rays[n], hits[n].valid() ? &hits[n] : nullptr, pixels[i], back, back_count,
-                      motion ? motion + i : nullptr);
+        fill_gpacked(scene, lights, rays[n], hits[n].valid() ? &hits[n] : nullptr, pixels[i], emitted[i], back, back_count,
+                     motion ? motion + i : nullptr);
       }
   });
 }
@@ -53,7 +53,9 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
   g.resize(camera.width(), camera.height(), !back.empty());  // motion only where something can move
-  build_gbuffer(ctx, camera, frame, sample, back.data(), uint32_t(back.size()), g.pixels.data(), g.motion_data() ? g.motion.data() : nullptr);
+  g.materials = ctx.accel.scene_view().materials;
+  build_gbuffer(ctx, camera, frame, sample, back.data(), uint32_t(back.size()), g.pixels.data(), g.emitted.data(),
+                g.motion_data() ? g.motion.data() : nullptr);
 }
 
 }  // namespace rl

@@ -28,6 +28,41 @@ struct GSurface {
   RESTIR_HD Frame frame() const { return Frame::from_normal(ns); }
 };
 
+// What the G-buffer stores of a GSurface (issue 48: compact state; Falcor's packed G-buffer):
+// the point, its depth, the material and the reflectance its texture gave (GSurface::bsdf is
+// make_bsdf of the two again, the same bits), and the normals and the view direction. The
+// emission toward the camera (GSurface::le) is the pixel's own -- no neighbour and no later frame
+// reads it -- so it is kept beside the G-buffer for the current frame only (GBufferView::emitted).
+inline constexpr uint32_t kNoGSurface = 0xffffffffu;  // GPacked::material where the ray escaped
+struct GPacked {
+  Vec3 p;
+  float depth = 0;
+  uint32_t material = kNoGSurface;
+  Rgb reflectance{0};
+  Vec3 ng, ns, wo;
+  RESTIR_HD bool valid() const { return material != kNoGSurface; }
+};
+RESTIR_HD inline Vec3 packed_shading_normal(const GPacked& g) { return g.ns; }
+// The stored form of s, whose BSDF is make_bsdf(materials[material], reflectance).
+RESTIR_HD inline GPacked pack_surface(const GSurface& s, uint32_t material, Rgb reflectance) {
+  GPacked g;
+  if (!s.valid) return g;
+  g.p = s.p, g.depth = s.depth, g.material = material, g.reflectance = reflectance;
+  g.ng = s.ng, g.ns = s.ns, g.wo = s.wo;
+  return g;
+}
+// The working form again (le: the pixel's emission toward the camera, 0 where not kept).
+RESTIR_HD inline GSurface unpack_surface(const GPacked& g, const MaterialParams* materials, Rgb le = Rgb(0)) {
+  GSurface s;
+  s.le = le;
+  if (!g.valid()) return s;
+  s.valid = true;
+  s.p = g.p, s.depth = g.depth;
+  s.ng = g.ng, s.ns = g.ns, s.wo = g.wo;
+  s.bsdf = make_bsdf(materials[g.material], g.reflectance);
+  return s;
+}
+
 // Where a G-buffer point and its shading normal were one frame earlier: moved back with its
 // object's animation (the motion vector of an animated scene); p and ns for static geometry. Kept
 // beside the surfaces, not in them: only temporal reuse and SSR's history read it, and the 24 bytes
@@ -37,46 +72,24 @@ struct GMotion {
   Vec3 p_previous, ns_previous;
 };
 // Pixel i's motion: motion[i], or where there is no motion array (a static scene) the point's own.
-RESTIR_HD inline GMotion motion_of(const GSurface* pixels, const GMotion* motion, size_t i) {
-  return motion ? motion[i] : GMotion{pixels[i].p, pixels[i].ns};
+RESTIR_HD inline GMotion motion_of(const GPacked* pixels, const GMotion* motion, size_t i) {
+  return motion ? motion[i] : GMotion{pixels[i].p, packed_shading_normal(pixels[i])};
 }
 
-struct GBuffer {
-  int width = 0, height = 0;
-  std::vector<GSurface> pixels;
-  // One per pixel in an animated scene (build_gbuffer fills it); empty in a static one, where
-  // each point's previous position is its own (motion_at).
-  std::vector<GMotion> motion;
-  // Sized for w x h pixels, with a motion array when `animated` (no clearing: fill_gsurface writes
-  // every entry).
-  void resize(int w, int h, bool animated) {
-    width = w, height = h;
-    pixels.resize(size_t(w) * size_t(h));
-    if (animated)
-      motion.resize(pixels.size());
-    else
-      motion.clear();
-  }
-  const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
-  // The motion array, null without one (motion_of's convention); where fill_gsurface writes pixel i's.
-  const GMotion* motion_data() const { return motion.empty() ? nullptr : motion.data(); }
-  GMotion* motion_slot(size_t i) { return motion.empty() ? nullptr : &motion[i]; }
-  GMotion motion_at(int x, int y) const { return motion_of(pixels.data(), motion_data(), size_t(y) * size_t(width) + size_t(x)); }
-};
-
 // The G-buffer entry of a primary ray and its closest hit (null: it escaped), over the
-// device-shaped views (the CUDA backend's too). back[a] (back_count of them, one per scene
-// animation; may be null) maps a point of animation a's objects to where it was a frame earlier;
-// the point's motion goes to *motion where that is not null.
-RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& lights, const Ray& ray, const Hit* hit, GSurface& s,
-                                    const Mat4* back, uint32_t back_count, GMotion* motion = nullptr) {
-  s = GSurface{};
+// device-shaped views (the CUDA backend's too), into g and the emission toward the camera into le.
+// back[a] (back_count of them, one per scene animation; may be null) maps a point of animation a's
+// objects to where it was a frame earlier; the point's motion goes to *motion where that is not null.
+RESTIR_HD inline void fill_gpacked(const SceneView& scene, const LightsView& lights, const Ray& ray, const Hit* hit, GPacked& g, Rgb& le,
+                                   const Mat4* back, uint32_t back_count, GMotion* motion = nullptr) {
+  g = GPacked{};
   if (motion) *motion = GMotion{};
   if (!hit) {
-    s.le = lights.environment_radiance(ray.d);
+    le = lights.environment_radiance(ray.d);
     return;
   }
   const SurfaceInteraction si = surface_interaction(scene, ray, *hit);
+  GSurface s;
   s.valid = true;
   s.p = si.p;
   s.ng = si.ng;
@@ -84,9 +97,9 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
   s.wo = -ray.d;
   s.depth = hit->t;
   const MaterialParams& mat = scene.materials[si.material];
-  s.bsdf = make_bsdf(mat, material_reflectance(scene, mat, si.uv));
+  g = pack_surface(s, si.material, material_reflectance(scene, mat, si.uv));
   const uint32_t e = lights.emitter_at(si);
-  if (e != kNoEmitter) s.le = lights.emitted(e, si.ng, s.wo);
+  le = e != kNoEmitter ? lights.emitted(e, si.ng, s.wo) : Rgb(0);
   if (!motion) return;
   motion->p_previous = s.p;
   motion->ns_previous = s.ns;
@@ -96,17 +109,67 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
     motion->ns_previous = normalize(back[a].apply_vector(s.ns));  // rigid: the rotation part
   }
 }
+// The same as a working surface (what a stage reading the G-buffer entry back gets).
+RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& lights, const Ray& ray, const Hit* hit, GSurface& s,
+                                    const Mat4* back, uint32_t back_count, GMotion* motion = nullptr) {
+  GPacked g;
+  Rgb le;
+  fill_gpacked(scene, lights, ray, hit, g, le, back, back_count, motion);
+  s = unpack_surface(g, scene.materials, le);
+}
+
+// A frame's G-buffer on the host (tests, tools): w x h packed surfaces, the emission toward the
+// camera, and a motion array where the scene has animations.
+struct GBuffer {
+  int width = 0, height = 0;
+  std::vector<GPacked> pixels;
+  std::vector<Rgb> emitted;
+  // One per pixel in an animated scene (build_gbuffer fills it); empty in a static one, where
+  // each point's previous position is its own (motion_at).
+  std::vector<GMotion> motion;
+  const MaterialParams* materials = nullptr;  // the scene's, which GSurface::bsdf is made from
+  // Sized for w x h pixels, with a motion array when `animated` (no clearing: fill_gpacked writes
+  // every entry).
+  void resize(int w, int h, bool animated) {
+    width = w, height = h;
+    pixels.resize(size_t(w) * size_t(h));
+    emitted.resize(pixels.size());
+    if (animated)
+      motion.resize(pixels.size());
+    else
+      motion.clear();
+  }
+  size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+  GSurface at(int x, int y) const { return unpack_surface(pixels[index(x, y)], materials, emitted[index(x, y)]); }
+  // The motion array, null without one (motion_of's convention); where fill_gpacked writes pixel i's.
+  const GMotion* motion_data() const { return motion.empty() ? nullptr : motion.data(); }
+  GMotion* motion_slot(size_t i) { return motion.empty() ? nullptr : &motion[i]; }
+  GMotion motion_at(int x, int y) const { return motion_of(pixels.data(), motion_data(), index(x, y)); }
+};
+
+// The surfaces of one resampling (0 = the canonical domain), as the integrators' bridges (mis.h)
+// read them: the canonical one unpacked once by the pass, the others unpacked where they are read
+// (a pass keeps no array of unpacked neighbours: a thread's state stays the packed pointers).
+struct SurfaceList {
+  const GSurface* canonical = nullptr;
+  const GPacked* const* packed = nullptr;  // packed[i] for i >= 1
+  const MaterialParams* materials = nullptr;
+  RESTIR_HD GSurface operator[](int i) const { return i == 0 ? *canonical : unpack_surface(*packed[i], materials); }
+  RESTIR_HD Vec3 point(int i) const { return i == 0 ? canonical->p : packed[i]->p; }
+};
+
 // Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
 std::vector<Mat4> motion_back(const Scene& scene, int frame);
 
 // One primary ray per pixel for sample `sample` of frame `frame` (sample pattern + pixel filter),
-// traced on the CPU backend (Embree): every pixel's surface into pixels[] (camera.width() x
-// camera.height()), and its motion into motion[] unless that is null. back: motion_back's maps
-// (back_count of them). The CPU backend's primary-hit stage (cpu_backend.h).
+// traced on the CPU backend (Embree): every pixel's surface into pixels[] and its emission toward
+// the camera into emitted[] (camera.width() x camera.height()), and its motion into motion[] unless
+// that is null. back: motion_back's maps (back_count of them). The CPU backend's primary-hit stage
+// (cpu_backend.h).
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, const Mat4* back,
-                   uint32_t back_count, GSurface* pixels, GMotion* motion);
+                   uint32_t back_count, GPacked* pixels, Rgb* emitted, GMotion* motion);
 // The same into g, sized for the camera, with a motion array where the scene has animations
-// (integrators that keep a host GBuffer: ssr).
+// (tests and tools that keep a host GBuffer).
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g);
 
 // Pixel of the previous frame that saw world point p; false when off screen or behind the camera.
@@ -124,6 +187,12 @@ RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GSurface& b, flo
   if (!a.valid || !b.valid) return false;
   if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
   return dot(a.ns, b.ns) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+}
+// The same against a stored surface (only its depth and normal are read).
+RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
+  if (!a.valid || !b.valid()) return false;
+  if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
+  return dot(a.ns, packed_shading_normal(b)) >= std::cos(normal_threshold_deg * kPi / 180.0f);
 }
 
 }  // namespace rl

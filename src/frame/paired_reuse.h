@@ -33,10 +33,10 @@ struct PairedShift {
 
 // The similarity test of a pair, the same from either side: the depth difference against the
 // nearer depth (spatial_pixel's test measures it against the canonical pixel's own).
-RESTIR_HD inline bool similar_pair(const GSurface& a, const GSurface& b, float depth_threshold, float normal_threshold_deg) {
-  if (!a.valid || !b.valid) return false;
+RESTIR_HD inline bool similar_pair(const GPacked& a, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
+  if (!a.valid() || !b.valid()) return false;
   if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(std::min(a.depth, b.depth), 1e-6f)) return false;
-  return dot(a.ns, b.ns) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+  return dot(packed_shading_normal(a), packed_shading_normal(b)) >= std::cos(normal_threshold_deg * kPi / 180.0f);
 }
 
 // p̂_{<-i} of neighbour i's own sample when its stored target cannot stand for it (mis.h,
@@ -65,10 +65,10 @@ struct PairedRound {
   RESTIR_HD bool accepted_partner(const ReuseOptions& rp, const GBufferView& g, int t, int x, int y, int& qx, int& qy,
                                   bool resampling) const {
     pairing.partner(t, transforms[t], x, y, qx, qy, !broken);
-    if (qx < 0 || qy < 0 || qx >= g.width || qy >= g.height || !g.at(qx, qy).valid) return false;
-    if (one_sided && !resampling && g.at(qx, qy).depth > g.at(x, y).depth) return false;
+    if (qx < 0 || qy < 0 || qx >= g.width || qy >= g.height || !g.packed(qx, qy).valid()) return false;
+    if (one_sided && !resampling && g.packed(qx, qy).depth > g.packed(x, y).depth) return false;
     if (!rp.similarity_rejection) return true;
-    return similar_pair(g.at(x, y), g.at(qx, qy), rp.depth_threshold, rp.normal_threshold);
+    return similar_pair(g.packed(x, y), g.packed(qx, qy), rp.depth_threshold, rp.normal_threshold);
   }
 };
 
@@ -78,16 +78,17 @@ template <class Res, class MakeBridge>
 RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
                                   const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, const ReuseColor& color = {}) {
   const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
-  const GSurface& own = g.at(x, y);
+  const GPacked& own = g.packed(x, y);
   const Res& r = reservoirs[p];
   for (int t = 0; t < pr.pairing.count; ++t) {
     PairedShift& out = shifts[p * k + size_t(t)];
     out = PairedShift{};
     int qx, qy;
-    if (!own.valid || !r.has_sample() || !pr.accepted_partner(rp, g, t, x, y, qx, qy, false)) continue;
+    if (!own.valid() || !r.has_sample() || !pr.accepted_partner(rp, g, t, x, y, qx, qy, false)) continue;
     // The partner as the canonical domain (0) and this pixel as the source (1).
-    const GSurface* surfaces[2] = {&g.at(qx, qy), &own};
-    auto bridge = make_bridge(surfaces, 2, false);
+    const GSurface partner = g.at(qx, qy);
+    const GPacked* packed[2] = {nullptr, &own};
+    auto bridge = make_bridge(SurfaceList{&partner, packed, g.materials}, 2, false);
     typename Res::SampleType shifted;
     float jacobian = 1;
     if (!bridge.shift_to_canonical(1, r.sample, shifted, jacobian)) continue;
@@ -103,7 +104,7 @@ RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, 
 // (slot) and pixel (at) of each.
 template <class Res>
 struct PairedInputs {
-  const GSurface* surfaces[PairingView::kMaxTextures + 1];
+  const GPacked* surfaces[PairingView::kMaxTextures + 1];  // [0] unused: the pass unpacks its own
   const Res* inputs[PairingView::kMaxTextures + 1];
   int slot[PairingView::kMaxTextures + 1];
   size_t at[PairingView::kMaxTextures + 1];
@@ -115,7 +116,7 @@ template <class Res>
 RESTIR_HD int paired_inputs(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, const PairedShift* shifts,
                             const PairedRound& pr, const ReuseDebugView& dbg, int x, int y, PairedInputs<Res>& in) {
   const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
-  in.surfaces[0] = &g.at(x, y), in.inputs[0] = &reservoirs[p], in.at[0] = p, in.slot[0] = -1;
+  in.surfaces[0] = nullptr, in.inputs[0] = &reservoirs[p], in.at[0] = p, in.slot[0] = -1;
   int n = 1;
   for (int t = 0; t < pr.pairing.count; ++t) {
     ++dbg.tried[p];
@@ -125,7 +126,7 @@ RESTIR_HD int paired_inputs(const ReuseOptions& rp, const GBufferView& g, const 
       continue;
     }
     in.at[n] = size_t(qy) * size_t(g.width) + size_t(qx);
-    in.surfaces[n] = &g.at(qx, qy), in.inputs[n] = &reservoirs[in.at[n]], in.slot[n] = t;
+    in.surfaces[n] = &g.packed(qx, qy), in.inputs[n] = &reservoirs[in.at[n]], in.slot[n] = t;
     ++n;
   }
 #ifndef __CUDA_ARCH__
@@ -148,13 +149,13 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
                                      Res* next, const MakeBridge& make_bridge, const PairedRound& pr, const ReuseDebugView& dbg, int x,
                                      int y, const ReuseColor& color = {}) {
   const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
-  const GSurface& cur = g.at(x, y);
+  const GSurface cur = g.at(x, y);
   next[p] = reservoirs[p];
   if (color.out) color.out[p] = Rgb(0);
   if (!cur.valid) return;
   PairedInputs<Res> in_;
   const int n = paired_inputs(rp, g, reservoirs, shifts, pr, dbg, x, y, in_);
-  const GSurface* const* surfaces = in_.surfaces;
+  const SurfaceList surfaces{&cur, in_.surfaces, g.materials};
   const Res* const* inputs = in_.inputs;
   const int* slot = in_.slot;
   const size_t* at = in_.at;

@@ -194,7 +194,8 @@ struct ReservoirChain {
   using Exec = typename B::Exec;
   template <class T>
   using Array = typename Exec::template Array<T>;
-  Array<GSurface> gbuffer, previous_gbuffer;
+  Array<GPacked> gbuffer, previous_gbuffer;
+  Array<Rgb> emitted;     // this frame's emission toward the camera (GBufferView::emitted)
   Array<GMotion> motion;  // this frame's motion vectors, in a scene with animations
   Array<Res> reservoirs, previous;
   Array<Res> scratch;  // a reuse pass's output, swapped with reservoirs
@@ -219,12 +220,13 @@ struct ReservoirChain {
   bool has_colors = false;
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
+  const MaterialParams* materials = nullptr;  // the backend's copy of the scene's (GBufferView::materials)
 
   // What a frame starts from and a frame leaves for the next: the history. A copy lets A-SVGF
   // render the previous frame again from it (ReservoirFrame::rerender_previous).
   struct History {
     Array<Res> reservoirs;
-    Array<GSurface> gbuffer;
+    Array<GPacked> gbuffer;
     Array<float> caps;
     int width = 0, height = 0;
     bool valid = false, has_caps = false;
@@ -245,7 +247,7 @@ struct ReservoirChain {
 
   // Bytes of the chain's buffers (Integrator::buffer_bytes); a chain type with more adds its own.
   size_t bytes() const {
-    return array_bytes(gbuffer) + array_bytes(previous_gbuffer) + array_bytes(motion) + array_bytes(reservoirs) +
+    return array_bytes(gbuffer) + array_bytes(previous_gbuffer) + array_bytes(emitted) + array_bytes(motion) + array_bytes(reservoirs) +
            array_bytes(previous) + array_bytes(scratch) + array_bytes(source) + array_bytes(tried) + array_bytes(rejected) +
            array_bytes(pairing_offsets) + array_bytes(pairing_first) + array_bytes(pairing_sizes) + array_bytes(pairing_transforms) +
            array_bytes(paired_shifts) + array_bytes(boiling_means) + array_bytes(duplicate_keys) + array_bytes(history_caps) +
@@ -253,7 +255,9 @@ struct ReservoirChain {
   }
 
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
-  GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr}; }
+  GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr, materials, emitted.data}; }
+  // The previous frame's surfaces (its emission is not kept; its materials are this frame's).
+  GBufferView previous_view() const { return {previous_gbuffer.data, width, height, nullptr, materials, nullptr}; }
 
   // Primary hits of chain s, buffers sized for the frame (not cleared: every integrator's candidate
   // stage writes every pixel's reservoir before anything reads it), debug counters cleared.
@@ -261,13 +265,14 @@ struct ReservoirChain {
     StageTimer timer(frame.stages, "primary");
     width = frame.camera->width(), height = frame.camera->height();
     const size_t n = size_t(width) * size_t(height);
-    gbuffer.reserve(n), previous_gbuffer.reserve(n);
+    gbuffer.reserve(n), previous_gbuffer.reserve(n), emitted.reserve(n);
     reservoirs.reserve(n), previous.reserve(n), scratch.reserve(n);
     source.reserve(n), tried.reserve(n), rejected.reserve(n);
     Exec::zero(source, n), Exec::zero(tried, n), Exec::zero(rejected, n);
     has_motion = w.view().animation_count > 0;  // motion only where something can move
     if (has_motion) motion.reserve(n);
-    B::primary_hits(w, ctx, frame, s, gbuffer.data, has_motion ? motion.data : nullptr);
+    materials = w.view().world.scene.materials;
+    B::primary_hits(w, ctx, frame, s, gbuffer.data, emitted.data, has_motion ? motion.data : nullptr);
   }
 
   // Temporal reuse (when there is a compatible history), then the spatial rounds; bridges(surfaces,
@@ -288,7 +293,7 @@ struct ReservoirChain {
       StageTimer timer(frame.stages, "temporal");
       const PerspectiveCamera& previous_camera = frame.previous_camera ? *frame.previous_camera : *frame.camera;
       const TemporalStage<Res, Bridges> stage{bridges,         rp,
-                                              view(),          GBufferView{previous_gbuffer.data, width, height},
+                                              view(),          previous_view(),
                                               previous_camera, reservoirs.data,
                                               previous.data,   scratch.data,
                                               f,               debug(),

@@ -4,7 +4,7 @@
 // backend's kernels. They own the pixel bookkeeping --
 // reprojection, neighbour choice, similarity rejection, M-cap, debug counters -- and hand the
 // resampling to restir::combine() through the integrator's bridge, made per pixel from the
-// surfaces of the inputs (index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).
+// surfaces of the inputs (SurfaceList, index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -22,13 +22,21 @@ inline constexpr int kMaxReuseNeighbors = 64;
 
 // A frame's G-buffer as flat memory. motion: GBuffer::motion, null in a static scene.
 struct GBufferView {
-  const GSurface* pixels = nullptr;
+  const GPacked* pixels = nullptr;
   int width = 0, height = 0;
   const GMotion* motion = nullptr;
-  RESTIR_HD const GSurface& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
-  RESTIR_HD GMotion motion_at(int x, int y) const { return motion_of(pixels, motion, size_t(y) * size_t(width) + size_t(x)); }
+  const MaterialParams* materials = nullptr;  // the scene's: GSurface::bsdf is made from them
+  const Rgb* emitted = nullptr;               // the emission toward the camera; null: 0 (a previous frame's)
+  RESTIR_HD size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+  // Pixel i's surface, unpacked (unpack_surface: a value, not a reference into the buffer).
+  RESTIR_HD GSurface surface(size_t i) const { return unpack_surface(pixels[i], materials, emitted ? emitted[i] : Rgb(0)); }
+  RESTIR_HD GSurface at(int x, int y) const { return surface(index(x, y)); }
+  RESTIR_HD const GPacked& packed(int x, int y) const { return pixels[index(x, y)]; }
+  RESTIR_HD GMotion motion_at(int x, int y) const { return motion_of(pixels, motion, index(x, y)); }
 };
-inline GBufferView view_of(const GBuffer& g) { return {g.pixels.data(), g.width, g.height, g.motion_data()}; }
+inline GBufferView view_of(const GBuffer& g) {
+  return {g.pixels.data(), g.width, g.height, g.motion_data(), g.materials, g.emitted.empty() ? nullptr : g.emitted.data()};
+}
 
 // Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).
 struct ReuseDebugView {
@@ -110,7 +118,7 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
                               const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y,
                               const float* history_caps = nullptr) {
   const uint32_t p = uint32_t(y * g.width + x);
-  const GSurface& cur = g.at(x, y);
+  const GSurface cur = g.at(x, y);
   next[p] = reservoirs[p];
   if (!cur.valid) return;
   ++dbg.tried[p];
@@ -122,7 +130,7 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
     ++dbg.rejected[p];
     return;
   }
-  const GSurface& prev = previous_g.at(px, py);
+  const GSurface prev = previous_g.at(px, py);
   GSurface expected = cur;  // the current point as the previous camera saw it
   expected.p = motion.p_previous;
   expected.ns = motion.ns_previous;
@@ -135,9 +143,9 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
   Res hist = history[size_t(py * g.width + px)];
   const float cap = history_caps ? history_caps[size_t(py * g.width + px)] : float(rp.max_history);
   hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, cap);
-  const GSurface* surfaces[2] = {&cur, &prev};
+  const GPacked* packed[2] = {nullptr, &previous_g.packed(px, py)};
   const Res* inputs[2] = {&reservoirs[p], &hist};
-  auto bridge = make_bridge(surfaces, 2, true);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials}, 2, true);
   Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
   restir::CombineInfo info;
   next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
@@ -168,7 +176,7 @@ template <class Res>
 inline void prefetch_neighbours(const GBufferView& g, const Res* reservoirs, int k, const int* nxs, const int* nys) {
   for (int j = 0; j < k; ++j) {
     if (nxs[j] < 0 || nys[j] < 0 || nxs[j] >= g.width || nys[j] >= g.height) continue;
-    prefetch_lines(&g.at(nxs[j], nys[j]), sizeof(GSurface));
+    prefetch_lines(&g.packed(nxs[j], nys[j]), sizeof(GPacked));
     prefetch_lines(&reservoirs[size_t(nys[j]) * size_t(g.width) + size_t(nxs[j])], sizeof(Res));
   }
 }
@@ -182,14 +190,14 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   const int w = g.width, h = g.height;
   const int k = rp.spatial_neighbors < kMaxReuseNeighbors ? rp.spatial_neighbors : kMaxReuseNeighbors;
   const uint32_t p = uint32_t(y * w + x);
-  const GSurface& cur = g.at(x, y);
+  const GSurface cur = g.at(x, y);
   next[p] = reservoirs[p];
   if (color.out) color.out[p] = Rgb(0);
   if (!cur.valid) return;
   Pcg32 rng = spatial_stream(f, round, p);
-  const GSurface* surfaces[kMaxReuseNeighbors + 1];
+  const GPacked* packed[kMaxReuseNeighbors + 1];
   const Res* inputs[kMaxReuseNeighbors + 1];
-  surfaces[0] = &cur;
+  packed[0] = nullptr;
   inputs[0] = &reservoirs[p];
   int n = 1;
   int nxs[kMaxReuseNeighbors], nys[kMaxReuseNeighbors];
@@ -211,16 +219,16 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
     const int nx = nxs[j], ny = nys[j];
     ++dbg.tried[p];
     const bool inside = !(nx == x && ny == y) && nx >= 0 && ny >= 0 && nx < w && ny < h;
-    if (!inside || !g.at(nx, ny).valid ||
-        (rp.similarity_rejection && !similar_surfaces(cur, g.at(nx, ny), rp.depth_threshold, rp.normal_threshold))) {
+    if (!inside || !g.packed(nx, ny).valid() ||
+        (rp.similarity_rejection && !similar_surfaces(cur, g.packed(nx, ny), rp.depth_threshold, rp.normal_threshold))) {
       ++dbg.rejected[p];
       continue;
     }
-    surfaces[n] = &g.at(nx, ny);
+    packed[n] = &g.packed(nx, ny);
     inputs[n] = &reservoirs[size_t(ny * w + nx)];
     ++n;
   }
-  auto bridge = make_bridge(surfaces, n, false);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials}, n, false);
   restir::CombineInfo info;
   info.want_color = color.out != nullptr;
   info.color_input_target = color.planted_input_target;

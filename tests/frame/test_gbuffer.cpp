@@ -41,8 +41,8 @@ Agreement compare(const std::string& path, int width, int height) {
   const RenderContext ctx{scene, accel, lights, o};
   const PerspectiveCamera cam(scene.camera.at_frame(0, 1), width, height);
   GBuffer g;
-  GSurface sentinel;
-  sentinel.valid = true;
+  GPacked sentinel;
+  sentinel.material = 0;
   sentinel.depth = -1;
   g.pixels.assign(size_t(width) * size_t(height), sentinel);
   build_gbuffer(ctx, cam, 0, 0, g);
@@ -59,7 +59,7 @@ Agreement compare(const std::string& path, int width, int height) {
       const bool found = accel.intersect(ray, hit);
       GSurface s;
       fill_gsurface(accel.scene_view(), lights.view(), ray, found ? &hit : nullptr, s, nullptr, 0);
-      const GSurface& b = g.at(x, y);
+      const GSurface b = g.at(x, y);
       ++r.pixels;
       r.hits += found;
       const bool sphere = found && hit.geom == accel.sphere_geom();

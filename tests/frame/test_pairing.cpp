@@ -101,8 +101,11 @@ TEST_SUITE("pairing") {
     a.valid = b.valid = true;
     a.ns = b.ns = Vec3{0, 0, 1};
     a.depth = 10, b.depth = 10.95f;  // 9.5% of a's depth, 8.7% of b's
-    CHECK(similar_pair(a, b, 0.09f, 25) == similar_pair(b, a, 0.09f, 25));
+    const GPacked pa = pack_surface(a, 0, Rgb(0.5f)), pb = pack_surface(b, 0, Rgb(0.5f));
+    CHECK(similar_pair(pa, pb, 0.09f, 25) == similar_pair(pb, pa, 0.09f, 25));
     CHECK(similar_surfaces(a, b, 0.09f, 25) != similar_surfaces(b, a, 0.09f, 25));  // the spiral's test is one-sided
+    CHECK(similar_surfaces(a, pb, 0.09f, 25) == similar_surfaces(a, b, 0.09f, 25));  // against a stored surface: the same test
+    CHECK(similar_surfaces(b, pa, 0.09f, 25) == similar_surfaces(b, a, 0.09f, 25));
   }
 
   TEST_CASE("paired reuse needs pairwise MIS, and ReSTIR DI's neighbour visibility") {

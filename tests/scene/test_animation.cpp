@@ -214,9 +214,9 @@ TEST_SUITE("animation") {
     std::vector<float> with_mv, camera_only;
     REQUIRE(g6.motion.size() == g6.pixels.size());  // an animated scene: every pixel's motion
     for (size_t i = 0; i < g6.pixels.size(); ++i) {
-      const GSurface& cur = g6.pixels[i];
+      const GPacked& cur = g6.pixels[i];
       const Vec3 p_previous = g6.motion[i].p_previous;
-      if (!cur.valid || length(p_previous - cur.p) < 1e-4f) continue;  // static geometry
+      if (!cur.valid() || length(p_previous - cur.p) < 1e-4f) continue;  // static geometry
       auto miss = [&](Vec3 p) {
         int x, y;
         return reproject(cam, p, x, y) && g5.at(x, y).valid ? length(g5.at(x, y).p - p_previous) : 1e9f;

@@ -303,7 +303,7 @@ struct DiBridges;
 template <class Tracer>
 struct DiBridge {
   const DiBridges<Tracer>* b;
-  const GSurface* const* surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
+  SurfaceList surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
   bool temporal;                    // domain 1 is the previous frame
   RESTIR_HD bool history_lights() const { return temporal && b->fw.has_previous_lights; }
   RESTIR_HD bool history_scene() const { return temporal && b->fw.has_previous && !b->history_visibility_now; }
@@ -326,7 +326,7 @@ struct DiBridge {
   // di.visibility_reuse (checked by the options) that target includes V, so V = 1 there: F needs no
   // shadow ray.
   RESTIR_HD Rgb color(const LightPoint& x) const {
-    return di_unshadowed(b->fw.world.lights, *surfaces[0], x, b->fw.world.ray_epsilon, nullptr);
+    return di_unshadowed(b->fw.world.lights, surfaces[0], x, b->fw.world.ray_epsilon, nullptr);
   }
   RESTIR_HD float target_from(int i, const LightPoint& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
@@ -336,10 +336,10 @@ struct DiBridge {
       Vec3 normal;
       if (lights && !fw.previous_lights.follow(x.emitter, fw.world.lights, back.position, normal)) return 0;
       const LightsView& then = lights ? fw.previous_lights : fw.world.lights;
-      if (scene) return di_target(then, fw.previous_world.ray_epsilon, fw.previous_tracer, *surfaces[1], back, b->other_visibility);
-      return di_target(then, fw.world.ray_epsilon, fw.tracer, *surfaces[1], back, b->other_visibility);
+      if (scene) return di_target(then, fw.previous_world.ray_epsilon, fw.previous_tracer, surfaces[1], back, b->other_visibility);
+      return di_target(then, fw.world.ray_epsilon, fw.tracer, surfaces[1], back, b->other_visibility);
     }
-    return di_target(fw.world.lights, fw.world.ray_epsilon, fw.tracer, *surfaces[i], x,
+    return di_target(fw.world.lights, fw.world.ray_epsilon, fw.tracer, surfaces[i], x,
                         i == 0 ? b->canonical_visibility : b->other_visibility);
   }
 };
@@ -352,7 +352,7 @@ struct DiBridges {
   bool other_visibility;        // other domains' targets include visibility (... and di.neighbor_visibility)
   bool history_in_previous;     // di.history_scene = previous
   bool history_visibility_now;  // a planted bias (planted_bias.h): the history's visibility in this frame's BVH
-  RESTIR_HD DiBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
+  RESTIR_HD DiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
 };
 
 // The final shading of a pixel: f(y) W, with visibility traced unless the target already included

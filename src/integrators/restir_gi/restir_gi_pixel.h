@@ -109,7 +109,7 @@ struct GiBridges;
 template <class Tracer>
 struct GiBridge {
   const GiBridges<Tracer>* b;
-  const GSurface* const* surfaces;  // surfaces[i] = domain i's visible point, 0 = canonical
+  SurfaceList surfaces;  // surfaces[i] = domain i's visible point, 0 = canonical
   bool temporal;
   // Domain 1 is another frame's, replayed across the frames (an animated scene's history).
   RESTIR_HD bool across_frames() const { return temporal && b->fw.has_previous && b->replay_history; }
@@ -122,28 +122,28 @@ struct GiBridge {
   RESTIR_HD bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      x = gi_replayed(fw.world, fw.tracer, b->path, *surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
+      x = gi_replayed(fw.world, fw.tracer, b->path, surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
       jacobian = x.infinite ? 1.0f
-                            : restir::moved_reconnection_jacobian(surfaces[1]->p, y.position, y.normal, surfaces[0]->p, x.position,
+                            : restir::moved_reconnection_jacobian(surfaces.point(1), y.position, y.normal, surfaces.point(0), x.position,
                                                                   x.normal);
       return jacobian > 0;
     }
     x = y;
-    jacobian = gi_jacobian(y, surfaces[i]->p, surfaces[0]->p);
+    jacobian = gi_jacobian(y, surfaces.point(i), surfaces.point(0));
     return jacobian > 0;
   }
   RESTIR_HD float target_from(int i, const GiSample& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      const GiSample back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, *surfaces[1],
+      const GiSample back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, surfaces[1],
                                         gi_carried(fw.world.scene, fw.back, fw.animation_count, x));
-      const float t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, *surfaces[1], back, false);  // visibility: in gi_replayed
+      const float t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, surfaces[1], back, false);  // visibility: in gi_replayed
       return x.infinite ? t
-                        : t * restir::moved_reconnection_jacobian(surfaces[0]->p, x.position, x.normal, surfaces[1]->p, back.position,
+                        : t * restir::moved_reconnection_jacobian(surfaces.point(0), x.position, x.normal, surfaces.point(1), back.position,
                                                                   back.normal);
     }
-    const float t = gi_target(fw.world, fw.tracer, b->kind, *surfaces[i], x, true);
-    return i == 0 ? t : t * gi_jacobian(x, surfaces[0]->p, surfaces[i]->p);
+    const float t = gi_target(fw.world, fw.tracer, b->kind, surfaces[i], x, true);
+    return i == 0 ? t : t * gi_jacobian(x, surfaces.point(0), surfaces.point(i));
   }
 };
 
@@ -154,7 +154,7 @@ struct GiBridges {
   GiTarget kind;
   PathOptions path;     // the sample's path: path.max_depth - 1 bounces
   bool replay_history;  // false: a planted bias (planted_bias.h) keeps an animated history's cached radiance
-  RESTIR_HD GiBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
+  RESTIR_HD GiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
 };
 
 // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of `path` bounces,

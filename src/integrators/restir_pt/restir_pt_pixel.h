@@ -53,7 +53,7 @@ struct PtBridges;
 template <class Tracer>
 struct PtBridge {
   const PtBridges<Tracer>* b;
-  const GSurface* const* surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
+  SurfaceList surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
   bool history;                     // domain 1 lives in the previous frame's scene (FrameWorld::previous_world)
   // Domain 1 is last frame's pixel evaluated in this frame's scene (pt.history_scene = current in an
   // animated scene): its stored target was computed in the other scene.
@@ -78,7 +78,7 @@ struct PtBridge {
   }
   RESTIR_HD bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
-    const bool ok = shift_in(0, y, *surfaces[0], x, jacobian);
+    const bool ok = shift_in(0, y, surfaces[0], x, jacobian);
     if (b->planted_on) jacobian *= b->planted.jacobian_scale;
     return ok;
   }
@@ -88,7 +88,7 @@ struct PtBridge {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
     float jacobian;
-    if (!shift_in(i, x, *surfaces[i], y, jacobian)) return 0;
+    if (!shift_in(i, x, surfaces[i], y, jacobian)) return 0;
     float t = luminance(y.contribution) * jacobian;
     if (b->planted_on) t *= b->planted.jacobian_scale * (i == shifting ? b->planted.own_target_scale : 1.0f);
     return t;
@@ -103,7 +103,7 @@ struct PtBridges {
   bool history_in_previous;  // pt.history_scene = previous
   PlantedBias planted;       // tests only (planted_bias.h), when planted_on
   bool planted_on;
-  RESTIR_HD PtBridge<Tracer> operator()(const GSurface* const* surfaces, int, bool temporal) const {
+  RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const {
     // pt.history_scene = current evaluates the history in this frame's scene even where the
     // previous one is kept (for pt.direct = restir-di's ReSTIR DI).
     const bool past = temporal && fw.has_previous && history_in_previous;

@@ -44,19 +44,21 @@ struct GBufferStage {
   PathWorld w;
   const Ray* rays;
   const Hit* hits;
-  GSurface* g;
+  GPacked* g;
+  Rgb* emitted;
   GMotion* motion;  // null: the scene has no animations
   const Mat4* back;
   uint32_t back_count;
   int width;
   RESTIR_HD void operator()(int x, int y) const {
     const size_t i = size_t(y) * size_t(width) + size_t(x);
-    fill_gsurface(w.scene, w.lights, rays[i], hits[i].valid() ? &hits[i] : nullptr, g[i], back, back_count, motion ? motion + i : nullptr);
+    fill_gpacked(w.scene, w.lights, rays[i], hits[i].valid() ? &hits[i] : nullptr, g[i], emitted[i], back, back_count,
+                 motion ? motion + i : nullptr);
   }
 };
 
 struct HiZBaseStage {
-  const GSurface* g;
+  const GPacked* g;
   Vec3 position, forward;
   float* z;
   int width;
@@ -100,7 +102,7 @@ struct ReflectionStage {
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * v.g.width + x);
     const size_t rays = size_t(v.so.rays);
-    const GSurface& sf = v.g.pixels[p];
+    const GSurface sf = v.g.surface(p);
     if (!v.reflective(sf)) {
       for (size_t i = 0; i < rays; ++i) out[p * rays + i] = ReflectionRay{};
       return;
@@ -117,7 +119,7 @@ struct ResolveStage {
   uint64_t seed;
   RESTIR_HD void operator()(int x, int y) const {
     const uint32_t p = uint32_t(y * v.g.width + x);
-    const GSurface& sf = v.g.pixels[p];
+    const GSurface sf = v.g.surface(p);
     if (!v.reflective(sf)) {
       sum[p] += v.lit[p];
       return;
@@ -136,7 +138,7 @@ struct AverageStage {
 struct TemporalStage {
   SsrPixelView v;
   PerspectiveCamera previous_camera;
-  const GSurface* previous_g;
+  const GPacked* previous_g;
   const Rgb *history, *current;
   float alpha;
   Rgb* out;
@@ -178,21 +180,23 @@ class SsrFrame final : public Integrator {
   }
   FrameBuffer frame_buffer() const override { return frame_buffer_of<Exec>(sum_, sum_is_frame_); }
   size_t buffer_bytes() const override {
-    return array_bytes(rays_) + array_bytes(hits_) + array_bytes(g_) + array_bytes(previous_g_) + array_bytes(motion_) +
+    return array_bytes(rays_) + array_bytes(hits_) + array_bytes(g_) + array_bytes(previous_g_) + array_bytes(emitted_) + array_bytes(motion_) +
            array_bytes(hiz_) + array_bytes(lit_) + array_bytes(traced_) + array_bytes(sum_) + array_bytes(history_) +
            array_bytes(current_);
   }
 
  private:
   void reserve(size_t n) {
-    rays_.reserve(n), hits_.reserve(n), g_.reserve(n), lit_.reserve(n), sum_.reserve(n);
+    rays_.reserve(n), hits_.reserve(n), g_.reserve(n), emitted_.reserve(n), lit_.reserve(n), sum_.reserve(n);
     traced_.reserve(n * size_t(ctx_.options.ssr.rays));
     animated_ = world_.view().animation_count > 0;  // motion vectors only where something can move
     if (animated_) motion_.reserve(n);
     layout_ = hiz_layout(width_, height_);
     hiz_.reserve(layout_.total);
   }
-  GBufferView view() const { return {g_.data, width_, height_, animated_ ? motion_.data : nullptr}; }
+  GBufferView view() const {
+    return {g_.data, width_, height_, animated_ ? motion_.data : nullptr, world_.view().world.scene.materials, emitted_.data};
+  }
   SsrPixelView pixel_view(const FrameInfo& frame) const {
     const PathWorld& w = world_.view().world;
     return {ctx_.options.ssr, *frame.camera, view(), HiZView{hiz_.data, layout_}, lit_.data, traced_.data, w.lights, extent_,
@@ -208,7 +212,7 @@ class SsrFrame final : public Integrator {
     Exec::for_pixels(width_, height_, CameraRayStage{camera_sampling(ctx_.options), *frame.camera, frame.index, s, rays_.data}, "ssr camera rays");
     B::trace_closest(world_, rays_.data, hits_.data, n, true);
     Exec::for_pixels(width_, height_,
-                     GBufferStage{fw.world, rays_.data, hits_.data, g_.data, animated_ ? motion_.data : nullptr, fw.back,
+                     GBufferStage{fw.world, rays_.data, hits_.data, g_.data, emitted_.data, animated_ ? motion_.data : nullptr, fw.back,
                                   fw.animation_count, width_},
                      "ssr G-buffer");
     const PerspectiveCamera& cam = *frame.camera;
@@ -272,7 +276,8 @@ class SsrFrame final : public Integrator {
   using Array = typename Exec::template Array<T>;
   Array<Ray> rays_;
   Array<Hit> hits_;
-  Array<GSurface> g_, previous_g_;
+  Array<GPacked> g_, previous_g_;
+  Array<Rgb> emitted_;  // the emission toward the camera of this frame's primary hits
   Array<GMotion> motion_;
   Array<float> hiz_;
   Array<Rgb> lit_, sum_, history_, current_;

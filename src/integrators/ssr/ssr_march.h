@@ -106,8 +106,8 @@ RESTIR_HD inline float exit_fraction(const ScreenSegment& seg, float x0, float x
 }  // namespace ssr_detail
 
 // Level 0 of the pyramid at a pixel: the view depth of the surface it shows (+inf: none).
-RESTIR_HD inline float hiz_depth(const GSurface& s, Vec3 camera_position, Vec3 camera_forward) {
-  return s.valid ? dot(s.p - camera_position, camera_forward) : ssr_detail::kInf;
+RESTIR_HD inline float hiz_depth(const GPacked& s, Vec3 camera_position, Vec3 camera_forward) {
+  return s.valid() ? dot(s.p - camera_position, camera_forward) : ssr_detail::kInf;
 }
 // Cell (cx, cy) of level `level` >= 1: the nearest of the (up to) 2 x 2 cells of the level below.
 RESTIR_HD inline float hiz_reduce(const HiZView& h, int level, int cx, int cy) {
@@ -227,7 +227,7 @@ RESTIR_HD inline MarchResult march_hiz(const PerspectiveCamera& camera, const GB
     // plane where it leaves the pixel, as a ray reflected at a grazing angle is over the surface it
     // started from, whose depth changes across one pixel more than the ray rises -- goes on.
     if (std::min(za, ze) <= zc * (1 + thickness)) {
-      const GSurface& sf = g.at(cx, cy);
+      const GSurface sf = g.at(cx, cy);
       if (!faces_ray(sf, d)) {
         const Vec3 seen = dot(sf.ng, sf.wo) >= 0 ? sf.ng : -sf.ng;
         if (dot(seg.point_at(a_exit) - sf.p, seen) > 0) {

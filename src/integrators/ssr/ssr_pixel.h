@@ -95,7 +95,7 @@ RESTIR_HD inline ReflectionRay trace_reflection(const SsrPixelView& v, const GSu
 RESTIR_HD inline Rgb reflected(const SsrPixelView& v, int x, int y, Pcg32& rng) {
   const SsrOptions& so = v.so;
   const size_t rays = size_t(so.rays), p = size_t(y) * size_t(v.g.width) + size_t(x);
-  const GSurface& sf = v.g.pixels[p];
+  const GSurface sf = v.g.surface(p);
   Rgb own(0), albedo(0);
   for (size_t i = 0; i < rays; ++i) {
     const ReflectionRay& r = v.traced[p * rays + i];
@@ -147,10 +147,10 @@ RESTIR_HD inline float reflection_distance(const SsrPixelView& v, size_t p) {
 
 // The history of reflective pixel (x, y): the previous frame's colour where its reflection was,
 // filtered bilinearly over the previous pixels that show this reflector; false where there is none.
-RESTIR_HD inline bool reflection_history(const SsrPixelView& v, const PerspectiveCamera& previous_camera, const GSurface* previous_g,
+RESTIR_HD inline bool reflection_history(const SsrPixelView& v, const PerspectiveCamera& previous_camera, const GPacked* previous_g,
                                          const Rgb* history, int x, int y, Rgb& out) {
   const size_t p = size_t(y) * size_t(v.g.width) + size_t(x);
-  const GSurface& sf = v.g.pixels[p];
+  const GPacked& sf = v.g.pixels[p];
   // Where the previous frame showed this reflection: a reflection moves with its virtual image --
   // the reflected point seen through the surface, the view ray extended by the rays' hit distance
   // -- not with the surface (parallax-corrected reprojection, as in Stachowiak 2015). The reflector
@@ -173,7 +173,7 @@ RESTIR_HD inline bool reflection_history(const SsrPixelView& v, const Perspectiv
     const int hx = x0 + (k & 1), hy = y0 + (k >> 1);
     if (hx < 0 || hy < 0 || hx >= v.g.width || hy >= v.g.height) continue;
     const size_t q = size_t(hy) * size_t(v.g.width) + size_t(hx);
-    const GSurface& before = previous_g[q];
+    const GSurface before = unpack_surface(previous_g[q], v.g.materials);
     if (!v.reflective(before) || dot(before.ns, motion.ns_previous) < std::cos(kResolveNormalDeg * kPi / 180.0f) ||
         std::fabs(dot(before.p - motion.p_previous, motion.ns_previous)) > 0.02f * before.depth)  // on this reflector's plane
       continue;
@@ -190,11 +190,11 @@ RESTIR_HD inline bool reflection_history(const SsrPixelView& v, const Perspectiv
 // surface is the same and the history's colour is within this frame's 3x3 neighbourhood range
 // (neighbourhood clamping, Karis 2014, "High-quality temporal supersampling"), so that what the
 // reflection showed a frame ago cannot linger. current: this frame before the blend.
-RESTIR_HD inline Rgb temporal_pixel(const SsrPixelView& v, const PerspectiveCamera& previous_camera, const GSurface* previous_g,
+RESTIR_HD inline Rgb temporal_pixel(const SsrPixelView& v, const PerspectiveCamera& previous_camera, const GPacked* previous_g,
                                     const Rgb* history, const Rgb* current, float alpha, int x, int y) {
   const size_t p = size_t(y) * size_t(v.g.width) + size_t(x);
   Rgb h;
-  if (!v.reflective(v.g.pixels[p]) || !reflection_history(v, previous_camera, previous_g, history, x, y, h)) return current[p];
+  if (!v.reflective(v.g.surface(p)) || !reflection_history(v, previous_camera, previous_g, history, x, y, h)) return current[p];
   Rgb lo(kInfinity), hi(-kInfinity);
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {

@@ -103,9 +103,9 @@ float stored_target_error(Fixture& fx, ShiftMapping shift, int max_depth, int& c
     PathSample x;
     float j = 0;
     if (!shift_path(world, fx.tracer(), ps, y, to, x, j)) return;
-    const GSurface* surfaces[2] = {&to, &from};
+    const GPacked* packed[2] = {nullptr, fx.packed_of(from)};
     const PtBridges<EmbreeTracer> bridges{fx.frame_world(), ps, true, PlantedBias{}, false};
-    const PtBridge<EmbreeTracer> bridge = bridges(surfaces, 2, false);
+    const PtBridge<EmbreeTracer> bridge = bridges(fx.surface_list(to, packed), 2, false);
     REQUIRE(bridge.stored_target_valid(1));
     const float shifted_back = bridge.target_from(1, x);
     const float stored = t_y / j;
@@ -151,7 +151,7 @@ TEST_SUITE("restir_pt") {
     PathSettings unchecked;
     unchecked.check_invertibility = false;
     const PtBridges<EmbreeTracer> bridges{fx.frame_world(), unchecked, true, PlantedBias{}, false};
-    const PtBridge<EmbreeTracer> bridge = bridges(nullptr, 2, false);
+    const PtBridge<EmbreeTracer> bridge = bridges(SurfaceList{}, 2, false);
     CHECK_FALSE(bridge.stored_target_valid(1));
     CHECK_FALSE(bridge.stored_target_valid(0));
   }
@@ -174,9 +174,9 @@ TEST_SUITE("restir_pt") {
         Rgb specular;
         const GiReservoir r = gi_initial(world, tracer, suffix, GiTarget::contribution, a, rng, specular);
         if (!r.has_sample()) continue;
-        const GSurface* surfaces[2] = {&b, &a};  // canonical b, neighbour a
+        const GPacked* packed[2] = {nullptr, fx.packed_of(a)};  // canonical b, neighbour a
         const GiBridges<EmbreeTracer> bridges{fx.frame_world(), GiTarget::contribution, suffix, true};
-        const GiBridge<EmbreeTracer> bridge = bridges(surfaces, 2, false);
+        const GiBridge<EmbreeTracer> bridge = bridges(fx.surface_list(b, packed), 2, false);
         REQUIRE(bridge.stored_target_valid(1));
         GiSample x;
         float j = 0;

@@ -35,18 +35,20 @@ ColorCheck check_color_expectation(PtFixture& fx, restir::ReuseMis mis, bool pla
   ColorCheck out;
   for (int set = 0; set < 60 && out.checked < 12; ++set) {
     const GSurface* surfaces[4];
+    const GPacked* packed[4];
     PathReservoir reservoirs[4];
     const PathReservoir* inputs[4];
     bool ok = true;
     for (int i = 0; i < 4 && ok; ++i) {
       surfaces[i] = &fx.random_surface(rng);
+      packed[i] = fx.packed_of(*surfaces[i]);
       ok = surfaces[i]->valid;
       reservoirs[i] = initial_path_reservoir(fx.world(), fx.tracer(), ps, *surfaces[i], rng.next_u32(), 2);
       reservoirs[i].confidence = float(1 + i);  // unequal confidences: the MIS weights matter
       inputs[i] = &reservoirs[i];
     }
     if (!ok || !reservoirs[0].has_sample()) continue;
-    const PtBridge<EmbreeTracer> bridge = bridges(surfaces, 4, false);
+    const PtBridge<EmbreeTracer> bridge = bridges(fx.surface_list(*surfaces[0], packed), 4, false);
     const std::span<const PathReservoir* const> in(inputs, 4);
     restir::CombineInfo info;
     info.want_color = true;

@@ -185,7 +185,8 @@ TEST_SUITE("ssr") {
       Pcg32 rng(7, 11);
       int judged = 0, right_linear = 0, right_hiz = 0, visible = 0;
       double steps_linear = 0, steps_hiz = 0;
-      for (const GSurface& sf : g.pixels) {
+      for (const GPacked& packed : g.pixels) {
+        const GSurface sf = unpack_surface(packed, g.materials);
         if (!sf.valid || bsdf_roughness(sf.bsdf) > 0.3f) continue;
         for (int k = 0; k < 2; ++k) {
           BsdfSample bs;
