@@ -91,8 +91,8 @@ void measure_restir(const std::string& integrator, const std::string& path, int 
   fmt::print("  cuda stages: {}\n", gpu.stages);
   fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
   fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
-  fmt::print("  buffers per pixel: cpu {:.0f} B, cuda {:.0f} B (G-buffer surface {} B, DI reservoir {} B, PT reservoir {} B)\n",
-             cpu.bytes_px, gpu.bytes_px, sizeof(GSurface), sizeof(DiReservoir), sizeof(PathReservoir));
+  fmt::print("  buffers per pixel: cpu {:.0f} B, cuda {:.0f} B (G-buffer surface {} B packed, {} B unpacked; DI reservoir {} B, PT reservoir {} B)\n",
+             cpu.bytes_px, gpu.bytes_px, sizeof(GPacked), sizeof(GSurface), sizeof(DiReservoir), sizeof(PathReservoir));
 }
 
 }  // namespace

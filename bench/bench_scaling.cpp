@@ -105,13 +105,14 @@ void pixel_and_thread_scaling(const Scene& scene, int frames, int rounds) {
   }
   fmt::print("(median over {} interleaved rounds)\n", rounds);
   // What a ReSTIR frame keeps per pixel (and spp chain): this frame's and last frame's reservoirs
-  // plus the pass's output buffer, this frame's and last frame's G-buffer surfaces, and the debug
-  // counters (source, tried, rejected). An animated scene adds each surface's motion (GMotion).
-  const size_t surface = 2 * sizeof(GSurface), debug = sizeof(uint8_t) + 2 * sizeof(uint16_t);
+  // plus the pass's output buffer, this frame's and last frame's G-buffer surfaces (packed) and this
+  // frame's emission toward the camera, and the debug counters (source, tried, rejected). An
+  // animated scene adds each surface's motion (GMotion).
+  const size_t surface = 2 * sizeof(GPacked) + sizeof(Rgb), debug = sizeof(uint8_t) + 2 * sizeof(uint16_t);
   const size_t di = sizeof(restir::Reservoir<LightPoint>), pt = sizeof(PathReservoir);
-  fmt::print("\nReSTIR state per pixel: restir-di {} bytes (reservoir {} x 3, G-buffer surface {} x 2, debug {}); "
+  fmt::print("\nReSTIR state per pixel: restir-di {} bytes (reservoir {} x 3, G-buffer surface {} x 2 + emission {}, debug {}); "
              "restir-pt {} bytes (reservoir {} x 3, the same surfaces and debug); an animated scene adds {} x 2 of motion\n",
-             3 * di + surface + debug, di, sizeof(GSurface), debug, 3 * pt + surface + debug, pt, sizeof(GMotion));
+             3 * di + surface + debug, di, sizeof(GPacked), sizeof(Rgb), debug, 3 * pt + surface + debug, pt, sizeof(GMotion));
 }
 }  // namespace
 

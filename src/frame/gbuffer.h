@@ -4,6 +4,7 @@
 #pragma once
 #include <vector>
 
+#include "core/unit_vector.h"
 #include "frame/integrator.h"
 #include "scene/bsdf.h"
 #include "scene/lights_view.h"
@@ -28,27 +29,33 @@ struct GSurface {
   RESTIR_HD Frame frame() const { return Frame::from_normal(ns); }
 };
 
-// What the G-buffer stores of a GSurface (issue 48: compact state; Falcor's packed G-buffer):
-// the point, its depth, the material and the reflectance its texture gave (GSurface::bsdf is
-// make_bsdf of the two again, the same bits), and the normals and the view direction. The
-// emission toward the camera (GSurface::le) is the pixel's own -- no neighbour and no later frame
-// reads it -- so it is kept beside the G-buffer for the current frame only (GBufferView::emitted).
+// What the G-buffer stores of a GSurface: 48 bytes instead of 160 (issue 48: compact state; as
+// Falcor's and RTXDI's packed G-buffers). Exact: the point, its depth, the material and the
+// reflectance its texture gave (GSurface::bsdf is make_bsdf of the two again, the same bits).
+// Octahedral (core/unit_vector.h): the shading normal in two floats (a few ulps off), the
+// geometric normal and the view direction in 16 bits a component (< 4.3e-5 radians off; the
+// geometric normal only picks the side a ray leaves from, and the view direction moves a glossy
+// lobe by a small fraction of its width). The emission toward the camera (GSurface::le) is the
+// pixel's own -- no neighbour and no later frame reads it -- so it is kept beside the G-buffer for
+// the current frame only (GBufferView::emitted).
 inline constexpr uint32_t kNoGSurface = 0xffffffffu;  // GPacked::material where the ray escaped
 struct GPacked {
   Vec3 p;
   float depth = 0;
   uint32_t material = kNoGSurface;
   Rgb reflectance{0};
-  Vec3 ng, ns, wo;
+  Vec2 ns;            // oct_encode(shading normal)
+  OctSnorm16 ng, wo;  // geometric normal, direction toward the camera
   RESTIR_HD bool valid() const { return material != kNoGSurface; }
 };
-RESTIR_HD inline Vec3 packed_shading_normal(const GPacked& g) { return g.ns; }
+static_assert(sizeof(GPacked) <= 48, "the compact G-buffer's budget (issue 48)");
+RESTIR_HD inline Vec3 packed_shading_normal(const GPacked& g) { return oct_decode(g.ns); }
 // The stored form of s, whose BSDF is make_bsdf(materials[material], reflectance).
 RESTIR_HD inline GPacked pack_surface(const GSurface& s, uint32_t material, Rgb reflectance) {
   GPacked g;
   if (!s.valid) return g;
   g.p = s.p, g.depth = s.depth, g.material = material, g.reflectance = reflectance;
-  g.ng = s.ng, g.ns = s.ns, g.wo = s.wo;
+  g.ns = oct_encode(s.ns), g.ng = OctSnorm16::encode(s.ng), g.wo = OctSnorm16::encode(s.wo);
   return g;
 }
 // The working form again (le: the pixel's emission toward the camera, 0 where not kept).
@@ -58,7 +65,7 @@ RESTIR_HD inline GSurface unpack_surface(const GPacked& g, const MaterialParams*
   if (!g.valid()) return s;
   s.valid = true;
   s.p = g.p, s.depth = g.depth;
-  s.ng = g.ng, s.ns = g.ns, s.wo = g.wo;
+  s.ns = oct_decode(g.ns), s.ng = g.ng.decode(), s.wo = g.wo.decode();
   s.bsdf = make_bsdf(materials[g.material], g.reflectance);
   return s;
 }

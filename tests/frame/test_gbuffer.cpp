@@ -72,9 +72,71 @@ Agreement compare(const std::string& path, int width, int height) {
   return r;
 }
 
+// Every pixel's surface as its hit gives it (what fill_gsurface wrote before the G-buffer was
+// packed) against the one fill_gsurface reads back from the packed entry of the same hit: the largest angle of each direction,
+// and how many pixels differ in any exact field (point, depth, BSDF, emission).
+struct PackedError {
+  int surfaces = 0, exact_differ = 0;
+  double ns = 0, ng = 0, wo = 0;
+};
+double angle(Vec3 a, Vec3 b) { return std::atan2(double(length(cross(a, b))), double(dot(a, b))); }
+bool same_bsdf(const Bsdf& a, const Bsdf& b) {
+  bool coat = true;
+  for (int i = 0; i < kCoatTableSize; ++i) coat = coat && a.coat_t[i] == b.coat_t[i];
+  return coat && a.type == b.type && a.reflectance == b.reflectance && a.eta == b.eta && a.k == b.k &&
+         a.use_reflectance == b.use_reflectance && a.ior == b.ior && a.alpha_x == b.alpha_x && a.alpha_y == b.alpha_y &&
+         a.coat_fdr == b.coat_fdr;
+}
+PackedError packed_error(const std::string& path) {
+  const Scene scene = load_scene(path);
+  Options o = options_for(scene, {});
+  o.film.width = 96, o.film.height = 54;
+  Accel accel(scene);
+  Lights lights(scene, o.render.light_selection);
+  const PerspectiveCamera cam(scene.camera.at_frame(0, 1), o.film.width, o.film.height);
+  const SceneView& sv = accel.scene_view();
+  PackedError e;
+  for (int y = 0; y < o.film.height; ++y)
+    for (int x = 0; x < o.film.width; ++x) {
+      const Ray ray = camera_ray(camera_sampling(o), cam, x, y, 0, 0);
+      Hit hit;
+      if (!accel.intersect(ray, hit)) continue;
+      const SurfaceInteraction si = surface_interaction(sv, ray, hit);
+      const MaterialParams& mat = sv.materials[si.material];
+      GSurface b;  // through GPacked and back
+      fill_gsurface(sv, lights.view(), ray, &hit, b, nullptr, 0);
+      REQUIRE(b.valid);
+      const uint32_t emitter = lights.view().emitter_at(si);
+      const Rgb le = emitter != kNoEmitter ? lights.view().emitted(emitter, si.ng, -ray.d) : Rgb(0);
+      ++e.surfaces;
+      if (!(b.p == si.p && b.depth == hit.t && same_bsdf(b.bsdf, make_bsdf(mat, material_reflectance(sv, mat, si.uv))) && b.le == le))
+        ++e.exact_differ;
+      e.ns = std::max(e.ns, angle(b.ns, si.ns));
+      e.ng = std::max(e.ng, angle(b.ng, si.ng));
+      e.wo = std::max(e.wo, angle(b.wo, -ray.d));
+    }
+  return e;
+}
+
 }  // namespace
 
 TEST_SUITE("gbuffer") {
+  TEST_CASE("the packed G-buffer: 48 bytes; point, depth, BSDF and emission exact, directions within their maps' bounds") {
+    CHECK(sizeof(GPacked) <= 48);
+    // Textured, glossy, coated and emissive materials, spheres and triangles between them.
+    for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), own_scene("teapot-table.pbrt"),
+                                    own_scene("many-lights.pbrt"), own_scene("teapot.pbrt")}) {
+      CAPTURE(path);
+      const PackedError e = packed_error(path);
+      MESSAGE(path << ": " << e.surfaces << " surfaces; largest angles ns " << e.ns << ", ng " << e.ng << ", wo " << e.wo << " rad");
+      CHECK(e.surfaces > 1000);
+      CHECK(e.exact_differ == 0);
+      CHECK(e.ns < 1e-6);
+      CHECK(e.ng < 5e-5);
+      CHECK(e.wo < 5e-5);
+    }
+  }
+
   TEST_CASE("the tiled, batched primary hits equal one scalar query per pixel") {
     // Triangles only, a size that is no multiple of the 16-pixel tiles: bit for bit everywhere.
     const Agreement box = compare(shared_scene("cornell-box/scene-v4.pbrt"), 37, 23);

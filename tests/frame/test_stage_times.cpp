@@ -53,15 +53,16 @@ TEST_SUITE("stage_times") {
   }
 
   // Issue 48's state per pixel: the benchmarks divide buffer_bytes by the pixels. A ReSTIR chain
-  // holds at least this frame's and the previous frame's G-buffer and three reservoir arrays
-  // (this frame's, the history and a pass's output) per pixel and chain.
+  // holds at least this frame's and the previous frame's G-buffer (packed), this frame's emission
+  // toward the camera, and three reservoir arrays (this frame's, the history and a pass's output)
+  // per pixel and chain.
   TEST_CASE("every integrator on a backend frame reports its buffers, at least the arrays it must hold") {
     Scene scene = load_scene(shared_scene("cornell-box/scene-v4.pbrt"));
     struct Expect {
       const char* integrator;
       size_t at_least;  // bytes per pixel and chain
-    } cases[] = {{"restir-di", 2 * sizeof(GSurface) + 3 * sizeof(DiReservoir)},
-                 {"restir-pt", 2 * sizeof(GSurface) + 3 * sizeof(PathReservoir)},
+    } cases[] = {{"restir-di", 2 * sizeof(GPacked) + sizeof(Rgb) + 3 * sizeof(DiReservoir)},
+                 {"restir-pt", 2 * sizeof(GPacked) + sizeof(Rgb) + 3 * sizeof(PathReservoir)},
                  {"pt", sizeof(Rgb)}};
     for (const Expect& e : cases)
       for (int spp : {1, 2}) {
