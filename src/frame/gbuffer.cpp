@@ -54,6 +54,7 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
   g.resize(camera.width(), camera.height(), !back.empty());  // motion only where something can move
   g.materials = ctx.accel.scene_view().materials;
+  g.eye = camera.position();
   build_gbuffer(ctx, camera, frame, sample, back.data(), uint32_t(back.size()), g.pixels.data(), g.emitted.data(),
                 g.motion_data() ? g.motion.data() : nullptr);
 }

@@ -30,44 +30,44 @@ struct GSurface {
 };
 
 // What the G-buffer stores of a GSurface: 48 bytes instead of 160 (issue 48: compact state; as
-// Falcor's and RTXDI's packed G-buffers). Exact: the point, its depth, the material and the
-// reflectance its texture gave (GSurface::bsdf is make_bsdf of the two again, the same bits).
-// Octahedral (core/unit_vector.h): the shading normal in two floats (a few ulps off), the
-// geometric normal and the view direction in 16 bits a component (< 4.3e-5 radians off; the
-// geometric normal only picks the side a ray leaves from, and the view direction moves a glossy
-// lobe by a small fraction of its width). The emission toward the camera (GSurface::le) is the
-// pixel's own -- no neighbour and no later frame reads it -- so it is kept beside the G-buffer for
-// the current frame only (GBufferView::emitted).
+// Falcor's and RTXDI's packed G-buffers). Exact: the point, its depth, the shading normal, the
+// material and the reflectance its texture gave (GSurface::bsdf is make_bsdf of the two again, the
+// same bits). The geometric normal in 16 bits a component of the octahedral map (core/unit_vector.h,
+// < 4.3e-5 radians off: it only picks the side a ray leaves from). The view direction is not
+// stored: the camera is a pinhole, so it is the direction from the point to the camera's position
+// (GBufferView::eye), -ray.d to float rounding. The emission toward the camera (GSurface::le) is
+// the pixel's own -- no neighbour and no later frame reads it -- so it is kept beside the G-buffer
+// for the current frame only (GBufferView::emitted).
 inline constexpr uint32_t kNoGSurface = 0xffffffffu;  // GPacked::material where the ray escaped
 struct GPacked {
   Vec3 p;
   float depth = 0;
   uint32_t material = kNoGSurface;
   Rgb reflectance{0};
-  Vec2 ns;            // oct_encode(shading normal)
-  OctSnorm16 ng, wo;  // geometric normal, direction toward the camera
+  Vec3 ns;
+  OctSnorm16 ng;
   RESTIR_HD bool valid() const { return material != kNoGSurface; }
 };
 static_assert(sizeof(GPacked) <= 48, "the compact G-buffer's budget (issue 48)");
-RESTIR_HD inline Vec3 packed_shading_normal(const GPacked& g) { return oct_decode(g.ns); }
+RESTIR_HD inline Vec3 packed_shading_normal(const GPacked& g) { return g.ns; }
 // The stored form of s, whose BSDF is make_bsdf(materials[material], reflectance).
 RESTIR_HD inline GPacked pack_surface(const GSurface& s, uint32_t material, Rgb reflectance) {
   GPacked g;
   if (!s.valid) return g;
   g.p = s.p, g.depth = s.depth, g.material = material, g.reflectance = reflectance;
-  g.ns = oct_encode(s.ns), g.ng = OctSnorm16::encode(s.ng), g.wo = OctSnorm16::encode(s.wo);
+  g.ns = s.ns, g.ng = OctSnorm16::encode(s.ng);
   return g;
 }
-// The working form again (le: the pixel's emission toward the camera, 0 where not kept).
-RESTIR_HD inline GSurface unpack_surface(const GPacked& g, const MaterialParams* materials, Rgb le = Rgb(0)) {
-  GSurface s;
-  s.le = le;
-  if (!g.valid()) return s;
-  s.valid = true;
-  s.p = g.p, s.depth = g.depth;
-  s.ns = oct_decode(g.ns), s.ng = g.ng.decode(), s.wo = g.wo.decode();
-  s.bsdf = make_bsdf(materials[g.material], g.reflectance);
-  return s;
+// The working form again, seen from the camera at `eye` (le: the pixel's emission toward the
+// camera, 0 where not kept).
+RESTIR_HD inline GSurface unpack_surface(const GPacked& g, const MaterialParams* materials, Vec3 eye, Rgb le = Rgb(0)) {
+  if (!g.valid()) {
+    GSurface s;
+    s.le = le;
+    return s;
+  }
+  // Each member once (a default-initialized GSurface assigned field by field wrote it twice).
+  return GSurface{true, g.p, g.ng.decode(), g.ns, normalize(eye - g.p), g.depth, make_bsdf(materials[g.material], g.reflectance), le};
 }
 
 // Where a G-buffer point and its shading normal were one frame earlier: moved back with its
@@ -122,7 +122,7 @@ RESTIR_HD inline void fill_gsurface(const SceneView& scene, const LightsView& li
   GPacked g;
   Rgb le;
   fill_gpacked(scene, lights, ray, hit, g, le, back, back_count, motion);
-  s = unpack_surface(g, scene.materials, le);
+  s = unpack_surface(g, scene.materials, ray.o, le);
 }
 
 // A frame's G-buffer on the host (tests, tools): w x h packed surfaces, the emission toward the
@@ -135,6 +135,7 @@ struct GBuffer {
   // each point's previous position is its own (motion_at).
   std::vector<GMotion> motion;
   const MaterialParams* materials = nullptr;  // the scene's, which GSurface::bsdf is made from
+  Vec3 eye;                                   // the camera's position
   // Sized for w x h pixels, with a motion array when `animated` (no clearing: fill_gpacked writes
   // every entry).
   void resize(int w, int h, bool animated) {
@@ -147,7 +148,7 @@ struct GBuffer {
       motion.clear();
   }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
-  GSurface at(int x, int y) const { return unpack_surface(pixels[index(x, y)], materials, emitted[index(x, y)]); }
+  GSurface at(int x, int y) const { return unpack_surface(pixels[index(x, y)], materials, eye, emitted[index(x, y)]); }
   // The motion array, null without one (motion_of's convention); where fill_gpacked writes pixel i's.
   const GMotion* motion_data() const { return motion.empty() ? nullptr : motion.data(); }
   GMotion* motion_slot(size_t i) { return motion.empty() ? nullptr : &motion[i]; }
@@ -155,14 +156,28 @@ struct GBuffer {
 };
 
 // The surfaces of one resampling (0 = the canonical domain), as the integrators' bridges (mis.h)
-// read them: the canonical one unpacked once by the pass, the others unpacked where they are read
-// (a pass keeps no array of unpacked neighbours: a thread's state stays the packed pointers).
+// read them: the canonical one unpacked once by the pass, another where it is read, into a cache
+// of one surface -- a pass keeps no array of unpacked neighbours (a GPU thread's state stays the
+// packed pointers and one surface), and a bridge that reads one domain several times in a row
+// unpacks it once.
 struct SurfaceList {
+  SurfaceList() = default;
+  RESTIR_HD SurfaceList(const GSurface* canonical_, const GPacked* const* packed_, const MaterialParams* materials_, Vec3 eye_)
+      : canonical(canonical_), packed(packed_), materials(materials_), eye(eye_) {}
   const GSurface* canonical = nullptr;
   const GPacked* const* packed = nullptr;  // packed[i] for i >= 1
   const MaterialParams* materials = nullptr;
-  RESTIR_HD GSurface operator[](int i) const { return i == 0 ? *canonical : unpack_surface(*packed[i], materials); }
+  Vec3 eye;  // the camera that saw packed[i], i >= 1
+  // Domain i's surface. Another domain's is valid until a read of a third one overwrites the cache:
+  // read one domain at a time (every bridge passes it straight to the function that uses it).
+  RESTIR_HD const GSurface& operator[](int i) const {
+    if (i == 0) return *canonical;
+    if (i != cached) cache = unpack_surface(*packed[i], materials, eye), cached = i;
+    return cache;
+  }
   RESTIR_HD Vec3 point(int i) const { return i == 0 ? canonical->p : packed[i]->p; }
+  mutable GSurface cache;  // packed[cached] unpacked
+  mutable int cached = -1;
 };
 
 // Those maps for frame f (identity at frame 0): animation(f - 1) o animation(f)^-1.
@@ -195,11 +210,14 @@ RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GSurface& b, flo
   if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
   return dot(a.ns, b.ns) >= std::cos(normal_threshold_deg * kPi / 180.0f);
 }
-// The same against a stored surface (only its depth and normal are read).
+// The same for a valid surface of depth `depth` and shading normal `ns` against a stored one.
+RESTIR_HD inline bool similar_surfaces(float depth, Vec3 ns, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
+  if (!b.valid()) return false;
+  if (std::fabs(depth - b.depth) > depth_threshold * std::max(depth, 1e-6f)) return false;
+  return dot(ns, packed_shading_normal(b)) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+}
 RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
-  if (!a.valid || !b.valid()) return false;
-  if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
-  return dot(a.ns, packed_shading_normal(b)) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+  return a.valid && similar_surfaces(a.depth, a.ns, b, depth_threshold, normal_threshold_deg);
 }
 
 }  // namespace rl

@@ -88,7 +88,7 @@ RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, 
     // The partner as the canonical domain (0) and this pixel as the source (1).
     const GSurface partner = g.at(qx, qy);
     const GPacked* packed[2] = {nullptr, &own};
-    auto bridge = make_bridge(SurfaceList{&partner, packed, g.materials}, 2, false);
+    auto bridge = make_bridge(SurfaceList{&partner, packed, g.materials, g.eye}, 2, false);
     typename Res::SampleType shifted;
     float jacobian = 1;
     if (!bridge.shift_to_canonical(1, r.sample, shifted, jacobian)) continue;
@@ -155,7 +155,7 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
   if (!cur.valid) return;
   PairedInputs<Res> in_;
   const int n = paired_inputs(rp, g, reservoirs, shifts, pr, dbg, x, y, in_);
-  const SurfaceList surfaces{&cur, in_.surfaces, g.materials};
+  const SurfaceList surfaces{&cur, in_.surfaces, g.materials, g.eye};
   const Res* const* inputs = in_.inputs;
   const int* slot = in_.slot;
   const size_t* at = in_.at;

@@ -221,6 +221,7 @@ struct ReservoirChain {
   int width = 0, height = 0, previous_width = 0, previous_height = 0;
   bool has_history = false, has_motion = false;
   const MaterialParams* materials = nullptr;  // the backend's copy of the scene's (GBufferView::materials)
+  Vec3 eye;                                   // this frame's camera position (GBufferView::eye)
 
   // What a frame starts from and a frame leaves for the next: the history. A copy lets A-SVGF
   // render the previous frame again from it (ReservoirFrame::rerender_previous).
@@ -255,9 +256,12 @@ struct ReservoirChain {
   }
 
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
-  GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr, materials, emitted.data}; }
-  // The previous frame's surfaces (its emission is not kept; its materials are this frame's).
-  GBufferView previous_view() const { return {previous_gbuffer.data, width, height, nullptr, materials, nullptr}; }
+  GBufferView view() const { return {gbuffer.data, width, height, has_motion ? motion.data : nullptr, materials, emitted.data, eye}; }
+  // The previous frame's surfaces, seen from its camera at previous_eye (its emission is not kept;
+  // its materials are this frame's).
+  GBufferView previous_view(Vec3 previous_eye) const {
+    return {previous_gbuffer.data, width, height, nullptr, materials, nullptr, previous_eye};
+  }
 
   // Primary hits of chain s, buffers sized for the frame (not cleared: every integrator's candidate
   // stage writes every pixel's reservoir before anything reads it), debug counters cleared.
@@ -272,6 +276,7 @@ struct ReservoirChain {
     has_motion = w.view().animation_count > 0;  // motion only where something can move
     if (has_motion) motion.reserve(n);
     materials = w.view().world.scene.materials;
+    eye = frame.camera->position();
     B::primary_hits(w, ctx, frame, s, gbuffer.data, emitted.data, has_motion ? motion.data : nullptr);
   }
 
@@ -293,7 +298,7 @@ struct ReservoirChain {
       StageTimer timer(frame.stages, "temporal");
       const PerspectiveCamera& previous_camera = frame.previous_camera ? *frame.previous_camera : *frame.camera;
       const TemporalStage<Res, Bridges> stage{bridges,         rp,
-                                              view(),          previous_view(),
+                                              view(),          previous_view(previous_camera.position()),
                                               previous_camera, reservoirs.data,
                                               previous.data,   scratch.data,
                                               f,               debug(),

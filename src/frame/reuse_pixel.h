@@ -27,15 +27,16 @@ struct GBufferView {
   const GMotion* motion = nullptr;
   const MaterialParams* materials = nullptr;  // the scene's: GSurface::bsdf is made from them
   const Rgb* emitted = nullptr;               // the emission toward the camera; null: 0 (a previous frame's)
+  Vec3 eye;                                   // the position of the camera that saw them
   RESTIR_HD size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
   // Pixel i's surface, unpacked (unpack_surface: a value, not a reference into the buffer).
-  RESTIR_HD GSurface surface(size_t i) const { return unpack_surface(pixels[i], materials, emitted ? emitted[i] : Rgb(0)); }
+  RESTIR_HD GSurface surface(size_t i) const { return unpack_surface(pixels[i], materials, eye, emitted ? emitted[i] : Rgb(0)); }
   RESTIR_HD GSurface at(int x, int y) const { return surface(index(x, y)); }
   RESTIR_HD const GPacked& packed(int x, int y) const { return pixels[index(x, y)]; }
   RESTIR_HD GMotion motion_at(int x, int y) const { return motion_of(pixels, motion, index(x, y)); }
 };
 inline GBufferView view_of(const GBuffer& g) {
-  return {g.pixels.data(), g.width, g.height, g.motion_data(), g.materials, g.emitted.empty() ? nullptr : g.emitted.data()};
+  return {g.pixels.data(), g.width, g.height, g.motion_data(), g.materials, g.emitted.empty() ? nullptr : g.emitted.data(), g.eye};
 }
 
 // Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).
@@ -130,22 +131,21 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
     ++dbg.rejected[p];
     return;
   }
-  const GSurface prev = previous_g.at(px, py);
-  GSurface expected = cur;  // the current point as the previous camera saw it
-  expected.p = motion.p_previous;
-  expected.ns = motion.ns_previous;
-  expected.depth = length(motion.p_previous - previous_camera.position());
+  const GPacked& prev = previous_g.packed(px, py);  // unpacked by the bridge where it reads it
+  // The current point as the previous camera saw it: its depth and normal there.
+  const float expected_depth = length(motion.p_previous - previous_camera.position());
   // Depth / normal rejection only when asked for (*.similarity_rejection), as in the spatial pass.
-  if (!prev.valid || (rp.similarity_rejection && !similar_surfaces(expected, prev, rp.depth_threshold, rp.normal_threshold))) {
+  if (!prev.valid() ||
+      (rp.similarity_rejection && !similar_surfaces(expected_depth, motion.ns_previous, prev, rp.depth_threshold, rp.normal_threshold))) {
     ++dbg.rejected[p];
     return;
   }
   Res hist = history[size_t(py * g.width + px)];
   const float cap = history_caps ? history_caps[size_t(py * g.width + px)] : float(rp.max_history);
   hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, cap);
-  const GPacked* packed[2] = {nullptr, &previous_g.packed(px, py)};
+  const GPacked* packed[2] = {nullptr, &prev};
   const Res* inputs[2] = {&reservoirs[p], &hist};
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials}, 2, true);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true);
   Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
   restir::CombineInfo info;
   next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
@@ -228,7 +228,7 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
     inputs[n] = &reservoirs[size_t(ny * w + nx)];
     ++n;
   }
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials}, n, false);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, g.eye}, n, false);
   restir::CombineInfo info;
   info.want_color = color.out != nullptr;
   info.color_input_target = color.planted_input_target;

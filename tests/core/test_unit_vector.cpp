@@ -64,7 +64,8 @@ TEST_SUITE("unit_vector") {
       const Vec2 e = oct_encode(n);
       const OctSnorm16 f{int16_t(std::floor(e.x * 32767.0f)), int16_t(std::floor(e.y * 32767.0f))};
       worst_floor = std::max(worst_floor, angle(n, f.decode()));
-      REQUIRE(length(q.decode() - n) <= length(f.decode() - n) * 1.001f);  // n is unit to a few ulps
+      // (ties within 1%: sin^2 of nearly parallel vectors is resolved to about that in float)
+      REQUIRE(length(q.decode() - n) <= length(f.decode() - n) * 1.01f);
     }
     MESSAGE("16-bit octahedral map: largest angle " << worst << " rad (floor only: " << worst_floor << ")");
     // The grid step is 1 / 32767 in the square (half a diagonal: 2.2e-5), which the map stretches

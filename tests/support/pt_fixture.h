@@ -47,7 +47,9 @@ struct PtFixture {
   // Where one of `surfaces` is stored in the G-buffer, and the bridges' list of some of them (0 =
   // the canonical one, packed[i] for the others), as the reuse passes hand it over.
   const GPacked* packed_of(const GSurface& s) const { return &g.pixels[size_t(&s - surfaces.data())]; }
-  SurfaceList surface_list(const GSurface& canonical, const GPacked* const* packed) const { return {&canonical, packed, g.materials}; }
+  SurfaceList surface_list(const GSurface& canonical, const GPacked* const* packed) const {
+    return {&canonical, packed, g.materials, g.eye};
+  }
 };
 
 }  // namespace rl::test

@@ -194,12 +194,13 @@ class SsrFrame final : public Integrator {
     layout_ = hiz_layout(width_, height_);
     hiz_.reserve(layout_.total);
   }
-  GBufferView view() const {
-    return {g_.data, width_, height_, animated_ ? motion_.data : nullptr, world_.view().world.scene.materials, emitted_.data};
+  GBufferView view(const FrameInfo& frame) const {
+    return {g_.data,        width_, height_, animated_ ? motion_.data : nullptr, world_.view().world.scene.materials,
+            emitted_.data, frame.camera->position()};
   }
   SsrPixelView pixel_view(const FrameInfo& frame) const {
     const PathWorld& w = world_.view().world;
-    return {ctx_.options.ssr, *frame.camera, view(), HiZView{hiz_.data, layout_}, lit_.data, traced_.data, w.lights, extent_,
+    return {ctx_.options.ssr, *frame.camera, view(frame), HiZView{hiz_.data, layout_}, lit_.data, traced_.data, w.lights, extent_,
             w.ray_epsilon};
   }
 

@@ -173,7 +173,7 @@ RESTIR_HD inline bool reflection_history(const SsrPixelView& v, const Perspectiv
     const int hx = x0 + (k & 1), hy = y0 + (k >> 1);
     if (hx < 0 || hy < 0 || hx >= v.g.width || hy >= v.g.height) continue;
     const size_t q = size_t(hy) * size_t(v.g.width) + size_t(hx);
-    const GSurface before = unpack_surface(previous_g[q], v.g.materials);
+    const GSurface before = unpack_surface(previous_g[q], v.g.materials, previous_camera.position());
     if (!v.reflective(before) || dot(before.ns, motion.ns_previous) < std::cos(kResolveNormalDeg * kPi / 180.0f) ||
         std::fabs(dot(before.p - motion.p_previous, motion.ns_previous)) > 0.02f * before.depth)  // on this reflector's plane
       continue;
