@@ -53,7 +53,8 @@ void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, in
 void build_gbuffer(const RenderContext& ctx, const PerspectiveCamera& camera, int frame, int sample, GBuffer& g) {
   const std::vector<Mat4> back = motion_back(ctx.scene, frame);
   g.resize(camera.width(), camera.height(), !back.empty());  // motion only where something can move
-  g.materials = ctx.accel.scene_view().materials;
+  const SceneView& sv = ctx.accel.scene_view();
+  g.materials.assign(sv.materials, sv.materials + sv.material_count);
   g.eye = camera.position();
   build_gbuffer(ctx, camera, frame, sample, back.data(), uint32_t(back.size()), g.pixels.data(), g.emitted.data(),
                 g.motion_data() ? g.motion.data() : nullptr);

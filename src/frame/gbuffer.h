@@ -33,9 +33,10 @@ struct GSurface {
 // Falcor's and RTXDI's packed G-buffers). Exact: the point, its depth, the shading normal, the
 // material and the reflectance its texture gave (GSurface::bsdf is make_bsdf of the two again, the
 // same bits). The geometric normal in 16 bits a component of the octahedral map (core/unit_vector.h,
-// < 4.3e-5 radians off: it only picks the side a ray leaves from). The view direction is not
-// stored: the camera is a pinhole, so it is the direction from the point to the camera's position
-// (GBufferView::eye), -ray.d to float rounding. The emission toward the camera (GSurface::le) is
+// < 4.3e-5 radians off: it offsets rays and decides sides, and pt.reconnection=footprint reads its
+// cosine with the view direction -- a threshold both directions of a shift read from the same
+// stored surface). The view direction is not stored: the camera is a pinhole, so it is the
+// direction from the point to the camera's position (GBufferView::eye), -ray.d to float rounding. The emission toward the camera (GSurface::le) is
 // the pixel's own -- no neighbour and no later frame reads it -- so it is kept beside the G-buffer
 // for the current frame only (GBufferView::emitted).
 inline constexpr uint32_t kNoGSurface = 0xffffffffu;  // GPacked::material where the ray escaped
@@ -134,8 +135,11 @@ struct GBuffer {
   // One per pixel in an animated scene (build_gbuffer fills it); empty in a static one, where
   // each point's previous position is its own (motion_at).
   std::vector<GMotion> motion;
-  const MaterialParams* materials = nullptr;  // the scene's, which GSurface::bsdf is made from
-  Vec3 eye;                                   // the camera's position
+  // A copy of the scene's materials, which GSurface::bsdf is made from: a host G-buffer may outlive
+  // the acceleration structure whose scene view it was built from (the frames' views point into
+  // their backend's own copy instead).
+  std::vector<MaterialParams> materials;
+  Vec3 eye;  // the camera's position
   // Sized for w x h pixels, with a motion array when `animated` (no clearing: fill_gpacked writes
   // every entry).
   void resize(int w, int h, bool animated) {
@@ -148,7 +152,7 @@ struct GBuffer {
       motion.clear();
   }
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
-  GSurface at(int x, int y) const { return unpack_surface(pixels[index(x, y)], materials, eye, emitted[index(x, y)]); }
+  GSurface at(int x, int y) const { return unpack_surface(pixels[index(x, y)], materials.data(), eye, emitted[index(x, y)]); }
   // The motion array, null without one (motion_of's convention); where fill_gpacked writes pixel i's.
   const GMotion* motion_data() const { return motion.empty() ? nullptr : motion.data(); }
   GMotion* motion_slot(size_t i) { return motion.empty() ? nullptr : &motion[i]; }

@@ -36,7 +36,7 @@ struct GBufferView {
   RESTIR_HD GMotion motion_at(int x, int y) const { return motion_of(pixels, motion, index(x, y)); }
 };
 inline GBufferView view_of(const GBuffer& g) {
-  return {g.pixels.data(), g.width, g.height, g.motion_data(), g.materials, g.emitted.empty() ? nullptr : g.emitted.data(), g.eye};
+  return {g.pixels.data(), g.width, g.height, g.motion_data(), g.materials.data(), g.emitted.empty() ? nullptr : g.emitted.data(), g.eye};
 }
 
 // Per-pixel diagnostics behind render.debug_view (ReuseDebug's arrays, or the device's).

@@ -48,7 +48,7 @@ struct PtFixture {
   // the canonical one, packed[i] for the others), as the reuse passes hand it over.
   const GPacked* packed_of(const GSurface& s) const { return &g.pixels[size_t(&s - surfaces.data())]; }
   SurfaceList surface_list(const GSurface& canonical, const GPacked* const* packed) const {
-    return {&canonical, packed, g.materials, g.eye};
+    return {&canonical, packed, g.materials.data(), g.eye};
   }
 };
 

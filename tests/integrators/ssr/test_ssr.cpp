@@ -186,7 +186,7 @@ TEST_SUITE("ssr") {
       int judged = 0, right_linear = 0, right_hiz = 0, visible = 0;
       double steps_linear = 0, steps_hiz = 0;
       for (const GPacked& packed : g.pixels) {
-        const GSurface sf = unpack_surface(packed, g.materials, g.eye);
+        const GSurface sf = unpack_surface(packed, g.materials.data(), g.eye);
         if (!sf.valid || bsdf_roughness(sf.bsdf) > 0.3f) continue;
         for (int k = 0; k < 2; ++k) {
           BsdfSample bs;
