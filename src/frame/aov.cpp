@@ -106,9 +106,10 @@ void fill_sampled_emission(const RenderContext& ctx, const PerspectiveCamera& ca
       for (int x = x0; x < x1; ++x) rays[n++] = camera_ray(cs, camera, x, y, frame, sample);
     ctx.accel.intersect(std::span<const Ray>(rays.data(), n), std::span<Hit>(hits.data(), n), true);
     for (size_t k = 0; k < n; ++k) {
-      GSurface s;
-      fill_gsurface(scene, lights, rays[k], hits[k].valid() ? &hits[k] : nullptr, s, back, back_count, nullptr);
-      sum[k] += s.le;
+      GPacked g;  // only the emission is read: nothing unpacked
+      Rgb le;
+      fill_gpacked(scene, lights, rays[k], hits[k].valid() ? &hits[k] : nullptr, g, le, back, back_count, nullptr);
+      sum[k] += le;
     }
   }
   size_t n = 0;

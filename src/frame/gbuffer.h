@@ -208,17 +208,19 @@ RESTIR_HD inline bool reproject(const PerspectiveCamera& previous, Vec3 p, int& 
 }
 
 // Bitterli et al. 2020 §4 / RTXDI: two surfaces may share samples when their depths differ by less
-// than depth_threshold (relative) and their normals by less than normal_threshold_deg.
-RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GSurface& b, float depth_threshold, float normal_threshold_deg) {
-  if (!a.valid || !b.valid) return false;
-  if (std::fabs(a.depth - b.depth) > depth_threshold * std::max(a.depth, 1e-6f)) return false;
-  return dot(a.ns, b.ns) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+// than depth_threshold (relative to the first's) and their normals by less than normal_threshold_deg.
+// Here for two valid surfaces by their depths and shading normals; below for the surfaces themselves.
+RESTIR_HD inline bool similar_surfaces(float depth_a, Vec3 ns_a, float depth_b, Vec3 ns_b, float depth_threshold,
+                                       float normal_threshold_deg) {
+  if (std::fabs(depth_a - depth_b) > depth_threshold * std::max(depth_a, 1e-6f)) return false;
+  return dot(ns_a, ns_b) >= std::cos(normal_threshold_deg * kPi / 180.0f);
 }
-// The same for a valid surface of depth `depth` and shading normal `ns` against a stored one.
+RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GSurface& b, float depth_threshold, float normal_threshold_deg) {
+  return a.valid && b.valid && similar_surfaces(a.depth, a.ns, b.depth, b.ns, depth_threshold, normal_threshold_deg);
+}
+// A surface of depth `depth` and shading normal `ns` (valid) against a stored one.
 RESTIR_HD inline bool similar_surfaces(float depth, Vec3 ns, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
-  if (!b.valid()) return false;
-  if (std::fabs(depth - b.depth) > depth_threshold * std::max(depth, 1e-6f)) return false;
-  return dot(ns, packed_shading_normal(b)) >= std::cos(normal_threshold_deg * kPi / 180.0f);
+  return b.valid() && similar_surfaces(depth, ns, b.depth, packed_shading_normal(b), depth_threshold, normal_threshold_deg);
 }
 RESTIR_HD inline bool similar_surfaces(const GSurface& a, const GPacked& b, float depth_threshold, float normal_threshold_deg) {
   return a.valid && similar_surfaces(a.depth, a.ns, b, depth_threshold, normal_threshold_deg);
