@@ -222,6 +222,19 @@ void check_rgb_weights(const Options& o) {
 }
 }  // namespace
 
+// Resampled NEE (restir_pt/walk.h, nee_light): the chosen light point's density has no closed
+// form, only its RIS contribution weight, so no shift may replay the light choice from another
+// vertex (random replay; the hybrid shift's replay of a path without reconnection vertex). Forced
+// reconnection at the light vertex keeps every NEE path's light vertex, or an earlier one.
+void check_nee_candidates(const Options& o) {
+  if (o.integrator != "restir-pt" || o.pt.nee_candidates <= 1) return;
+  if (o.pt.shift == ShiftMapping::reconnection || (o.pt.shift == ShiftMapping::hybrid && o.pt.force_nee_reconnection)) return;
+  throw OptionError(fmt::format("pt.nee_candidates = {}: needs pt.shift = reconnection, or pt.shift = hybrid with "
+                                "pt.force_nee_reconnection = true (a shift cannot replay a resampled light choice); set one "
+                                "of them, or pt.nee_candidates = 1",
+                                o.pt.nee_candidates));
+}
+
 void validate_options(const Options& o) {
   // 16384 x 16384 is allowed per axis, but not a 268-megapixel frame: 64 MPixel at most.
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
@@ -236,6 +249,7 @@ void validate_options(const Options& o) {
     throw OptionError("di.light_candidates and di.bsdf_candidates are both 0: restir-di needs at least one candidate");
   check_paired_reuse(o);
   check_rgb_weights(o);
+  check_nee_candidates(o);
   if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)
     throw OptionError(fmt::format("denoise.oidn_library is read only by denoise.method = oidn (not {})", enum_name(o.denoise.method)));
   check_option_groups(o);

@@ -193,6 +193,7 @@ struct PtOptions {
   float footprint_min_roughness = 0.2f;   // alpha_min at x_{k-1} (sec. 4.2), GGX roughness as roughness_threshold
   bool force_nee_reconnection = false;    // an NEE path with no earlier reconnection vertex reconnects at its light vertex (sec. 6.2.3)
   Roulette roulette = Roulette::replayed;
+  int nee_candidates = 1;                 // light points resampled per NEE (sec. 6.1's RIS inside the path); 1 = one light sample
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
   HistoryScene history_scene = HistoryScene::previous;
@@ -338,6 +339,7 @@ void visit_options(O& o, V& v) {
   v("pt.footprint_min_roughness", o.pt.footprint_min_roughness, "hybrid, pt.reconnection=footprint: minimum GGX roughness of x_{k-1} (the paper's single-vertex alpha_min, sec. 4.2)", Range{0, 1});
   v("pt.force_nee_reconnection", o.pt.force_nee_reconnection, "hybrid: a path whose last vertex came from next-event estimation and that has no earlier reconnection vertex reconnects at its light vertex whatever the criterion says (ReSTIR PT Enhanced, sec. 6.2.3): a shift never replays light sampling; unbiased");
   v("pt.roulette", o.pt.roulette, "with path.russian_roulette: replayed (part of the primary sample space: every shift replays the decisions, survival = the vertex albedo) or initial (ReSTIR PT Enhanced, sec. 6.2.4: at initial sampling only, survival = max(throughput) as pt's, its probabilities in the initial sample's source density; shifts never terminate a path); both unbiased");
+  v("pt.nee_candidates", o.pt.nee_candidates, "light points per next-event estimation, resampled by RIS toward the unshadowed contribution (ReSTIR PT Enhanced's NEE inside the path reservoir, sec. 6.1): one shadow ray for the chosen point, the path weighted by its RIS contribution weight; 1 = one light sample, as pt. Above 1 the light choice has no closed-form density, so no shift may replay it: needs pt.shift=reconnection, or hybrid with pt.force_nee_reconnection=true; unbiased", Range{1, 64});
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");

@@ -39,6 +39,9 @@ struct PlantedBias {
   // *.rgb_weights: each input's colour weight w_i F(Y_i) / p̂ divides by its own-domain target
   // p̂_i(X_i) instead of p̂(Y_i) in this pixel's domain (reuse_pixel.h's ReuseColor).
   bool color_input_target = false;
+  // pt.nee_candidates > 1: the walk's resampled light point is weighted by its source density
+  // p(Y) instead of its RIS contribution weight W (as if the choice among the candidates were free).
+  bool nee_source_density = false;
 };
 
 }  // namespace rl

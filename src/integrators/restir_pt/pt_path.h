@@ -84,6 +84,9 @@ struct PathSettings {
   // Tests only: true keeps roulette's survival probabilities in the densities a shift replays under
   // pt.roulette = initial, whose shifts replay without roulette (PlantedBias::roulette_in_replay).
   bool roulette_in_replay = false;
+  // Tests only: true offers the point resampled by pt.nee_candidates > 1 with its source density
+  // instead of its RIS contribution weight (PlantedBias::nee_source_density).
+  bool nee_source_density = false;
 };
 PathSettings path_settings(const Options& o);
 

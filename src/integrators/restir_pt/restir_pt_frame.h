@@ -60,6 +60,7 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     if (ctx.planted && ctx.planted->footprint_one_sided) settings_.retest_footprint = false;
     if (ctx.planted && ctx.planted->forced_nee_one_sided) settings_.retest_forced_nee = false;
     if (ctx.planted && ctx.planted->roulette_in_replay) settings_.roulette_in_replay = true;
+    if (ctx.planted && ctx.planted->nee_source_density) settings_.nee_source_density = true;
   }
 
   bool needs_previous_scene() const override {

@@ -81,13 +81,17 @@ struct ReplayedTail {
 };
 
 // The last vertex by next-event estimation from y_{n-1} = pre.v, with the base path's numbers u.
+// Never under pt.nee_candidates > 1, whose resampled light choice has no density to replay with
+// (walk.h, nee_light; restir_pt.cpp refuses the settings that would replay it): the shift fails.
 template <class Tracer>
 RESTIR_HD bool replay_nee(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const VertexRandoms& u, bool check,
                           const ShiftPrefix& pre, ReplayedTail& tail) {
   const Vertex& v = pre.v;
   EmitterPoint ep;
   SampledEmitter sampled;
-  if (v.delta || !ps.path.nee || !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) return false;
+  if (v.delta || !ps.path.nee || ps.pt.nee_candidates > 1 ||
+      !world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance))
+    return false;
   const bool is_dir = world.lights.at_infinity(ep.emitter);
   // NEE's event is never a delta: it completes a pending pair, and (y_{n-1}, x_n) is one to test.
   sampled.pdf = ep.pdf;

@@ -235,6 +235,66 @@ RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, boo
   return (nee_tag ? light_pdf : bsdf_pdf) / den;
 }
 
+// Next-event estimation from a non-delta vertex v (vertex `vertex` of the walk with stream `seed`):
+// the light point, its terminal, its strategy weight m_t and the density the path's candidate
+// weight divides by.
+//  - pt.nee_candidates = 1: one point of Lights::sample_point with the vertex's numbers u; the
+//    density is the point's, light_pdf.
+//  - N > 1 (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 6.1: NEE by RIS inside the path
+//    reservoir): N points of sample_point (the first with u, the rest from the vertex's second
+//    stream), one chosen by resampled importance sampling (Talbot et al. 2005) with the target
+//    q = luminance(f_s|cos| Le G) m_t -- the unshadowed contribution from v, the path's prefix being
+//    common to all candidates -- and weights w_i = q(X_i) / (N p(X_i)); one shadow ray for the
+//    chosen point. Its unbiased contribution weight is W = Σ w_i / q(Y) (GRIS, Lin et al. 2022,
+//    eq. 5; Bitterli et al. 2020, eq. 6), so the candidate weight divides by 1/W where one sample
+//    divides by p: E[m_t f W] = ∫ m_t f wherever q > 0, which holds where m_t f > 0 (q is f's
+//    unshadowed value). m_t stays the balance heuristic of the two strategies' *source* densities
+//    (light_pdf, BSDF), which still sum to one over the strategies for every path, so the BSDF
+//    strategy's paths that hit an emitter keep their weight unchanged. The chosen point's density
+//    has no closed form, so no shift may replay the choice (restir_pt.cpp's check: NEE paths
+//    reconnect at their light vertex or before).
+struct NeeSample {
+  EmitterPoint ep;
+  Terminal t;
+  float mis = 0;
+  float density = 0;  // light_pdf for one candidate; 1 / W for several
+};
+RESTIR_HD inline bool nee_light(const PathWorld& world, const PathSettings& ps, const Vertex& v, uint64_t seed, int vertex,
+                                const VertexRandoms& u, NeeSample& out) {
+  const int n = ps.pt.nee_candidates;
+  if (n <= 1) {
+    SampledEmitter sampled;
+    if (!world.lights.sample_point(u.nee_select, u.nee_point, out.ep, &sampled.env_radiance)) return false;
+    sampled.pdf = out.ep.pdf;
+    out.t = eval_terminal(world, ps, v, out.ep.emitter, out.ep.position, out.ep.normal, &sampled);
+    out.mis = strategy_weight(ps, true, v.delta, out.t.light_pdf, out.t.bsdf_pdf);
+    out.density = out.t.light_pdf;
+    return true;
+  }
+  Pcg32 r(mix64(seed ^ (0xd1b54a32d192ed03ULL * uint64_t(vertex + 1))), uint64_t(vertex) * 2 + 2);
+  float w_sum = 0, q_chosen = 0;
+  for (int i = 0; i < n; ++i) {
+    const float u_select = i == 0 ? u.nee_select : r.next_float();
+    const Vec2 u_point = i == 0 ? u.nee_point : r.next_2d();
+    const float u_keep = r.next_float();
+    EmitterPoint ep;
+    SampledEmitter sampled;
+    if (!world.lights.sample_point(u_select, u_point, ep, &sampled.env_radiance) || !(ep.pdf > 0)) continue;
+    sampled.pdf = ep.pdf;
+    const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
+    const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
+    const float q = luminance(t.fcos * t.emission) * t.geometry * mis;
+    const float w = q / (float(n) * ep.pdf);
+    if (!(w > 0) || !std::isfinite(w)) continue;
+    w_sum += w;
+    if (u_keep * w_sum < w) out = NeeSample{ep, t, mis, 0}, q_chosen = q;
+  }
+  if (!(w_sum > 0)) return false;
+  // Tests only (PathSettings::nee_source_density): the chosen point weighted by its source density.
+  out.density = ps.nee_source_density ? out.t.light_pdf : q_chosen / w_sum;
+  return true;
+}
+
 // One direction-sampling step from v with the vertex's random numbers: sample, trace, and express
 // the segment by the vertex positions, so that a path's value depends on its vertices only (a shift
 // that reconnects to a vertex recomputes exactly the same terms as the walk that found it).
@@ -421,19 +481,13 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     const Vertex& v = w.v[size_t(d)];
     const VertexRandoms u = vertex_randoms(walk_seed, d);
     // Next-event estimation: path x_1..x_d + light point.
-    if (ps.path.nee && !v.delta) {
-      EmitterPoint ep;
-      SampledEmitter sampled;
-      if (world.lights.sample_point(u.nee_select, u.nee_point, ep, &sampled.env_radiance)) {
-        const bool is_dir = world.lights.at_infinity(ep.emitter);
-        sampled.pdf = ep.pdf;
-        Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
-        if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow)) {
-          const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
-          offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, is_dir, false, t.fcos, t.emission * t.geometry,
-                            pdf * t.light_pdf, mis, replay * t.light_pdf, &t});
-        }
-      }
+    NeeSample nee;
+    if (ps.path.nee && !v.delta && nee_light(world, ps, v, walk_seed, d, u, nee)) {
+      const Terminal& t = nee.t;
+      const EmitterPoint& ep = nee.ep;
+      if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow))
+        offer(OfferedPath{d + 1, true, ep.emitter, ep.position, ep.normal, world.lights.at_infinity(ep.emitter), false, t.fcos,
+                          t.emission * t.geometry, pdf * nee.density, nee.mis, replay * nee.density, &t});
     }
     // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
     const Step st = take_step(world, tracer, ps, v, u);
