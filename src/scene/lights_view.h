@@ -261,6 +261,8 @@ struct LightsView {
   // env_radiance (optional) receives the environment's radiance along a sampled direction (from
   // the texel lookup that gave its density; untouched for other emitters).
   RESTIR_HD bool sample_point(float u_select, Vec2 u, EmitterPoint& out, Rgb* env_radiance = nullptr) const;
+  // The same for emitter idx already selected with probability pmf (a light tile's entry).
+  RESTIR_HD bool sample_point_on(uint32_t idx, float pmf, Vec2 u, EmitterPoint& out, Rgb* env_radiance = nullptr) const;
   RESTIR_HD float point_pdf(uint32_t emitter, Vec3 position) const;
   RESTIR_HD float environment_pdf(Vec3 dir) const;
   RESTIR_HD Rgb environment_radiance(Vec3 dir) const;

@@ -57,7 +57,12 @@ RESTIR_HD inline bool LightsView::sample_point(float u_select, Vec2 u, EmitterPo
   if (selection.size == 0) return false;
   float pmf = 0;
   const uint32_t idx = selection.sample(u_select, &pmf);
-  if (!(pmf > 0)) return false;
+  return sample_point_on(idx, pmf, u, out, env_radiance);
+}
+
+RESTIR_HD inline bool LightsView::sample_point_on(uint32_t idx, float pmf, Vec2 u, EmitterPoint& out, Rgb* env_radiance) const {
+  out = {};
+  if (!(pmf > 0) || idx >= num_emitters) return false;
   const LightEmitter& e = emitters[idx];
   out.emitter = idx;
   switch (e.kind) {

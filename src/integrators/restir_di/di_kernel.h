@@ -4,6 +4,7 @@
 #pragma once
 #include "core/rng.h"
 #include "frame/gbuffer.h"
+#include "frame/light_tiles.h"
 #include "scene/lights_view.h"
 
 namespace rl {
@@ -18,31 +19,6 @@ struct LightPoint {
 // The sample's identity for the duplication map (reservoir_chain.h): reuse copies a light point
 // bit for bit (the identity shift).
 RESTIR_HD inline uint64_t duplicate_key(const LightPoint& y) { return hash_point(y.position, y.emitter); }
-
-// One pre-selected emitter of a light tile and its selection probability.
-struct LightTileEntry {
-  uint32_t emitter = kNoEmitter;
-  float pmf = 0;
-};
-
-// One presampled direction of the environment map and what its sampling computed: the radiance
-// arriving from it and its solid-angle density (without the environment's selection pmf).
-struct EnvTileEntry {
-  Vec3 direction;
-  Rgb radiance{0};
-  float pdf = 0;
-};
-
-// The tile that pixel (x, y) takes its candidates from (LightTiles): drawn per 16x16-pixel block,
-// frame and chain from its own stream, so every pixel of a block reads the same `count` entries.
-inline constexpr int kLightTileBlockPixels = 16;
-RESTIR_HD inline uint32_t light_tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain, int count) {
-  const int blocks_x = (width + kLightTileBlockPixels - 1) / kLightTileBlockPixels;
-  const uint32_t block = uint32_t((y / kLightTileBlockPixels) * blocks_x + x / kLightTileBlockPixels);
-  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
-  const uint32_t last = uint32_t(count) - 1, i = uint32_t(rng.next_float() * float(count));
-  return i < last ? i : last;
-}
 
 namespace di_detail {
 

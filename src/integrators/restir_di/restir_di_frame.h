@@ -10,27 +10,12 @@
 #include <vector>
 
 #include "frame/reservoir_chain.h"
-#include "integrators/restir_di/light_tiles.h"
+#include "frame/light_tiles.h"
 #include "integrators/restir_di/restir_di_pixel.h"
 
 namespace rl {
 
 namespace di_frame_detail {
-
-// One chain's pre-sampled light tiles as the stages read them (LightTiles' arrays).
-struct Tiles {
-  const LightTileEntry* lights = nullptr;
-  const EnvTileEntry* env = nullptr;
-  int count = 0, size = 0, env_size = 0;
-  RESTIR_HD DiTileView of(int x, int y, int width, const ReuseFrame& f) const {
-    DiTileView v;
-    if (count <= 0 || size <= 0) return v;  // no tiles: candidates select from every emitter
-    const size_t t = light_tile_index(x, y, width, f.frame, f.seed, f.chain, count);
-    v.lights = lights + t * size_t(size), v.light_count = uint32_t(size);
-    if (env_size > 0) v.env = env + t * size_t(env_size), v.env_count = uint32_t(env_size);
-    return v;
-  }
-};
 
 // A pixel's initial reservoir: its candidates from its tile (restir_di_pixel.h).
 template <class Tracer>
@@ -38,12 +23,12 @@ struct Sampler {
   FrameWorld<Tracer> fw;
   DiOptions di;
   ReuseFrame f;
-  Tiles tiles;
+  LightTileSet tiles;
   int width;
   RESTIR_HD DiReservoir operator()(const GSurface& s, int x, int y, uint32_t p) const {
     Pcg32 rng = make_rng(p, f.frame, RngPass::light_candidates, f.seed, f.chain);
     return di_initial_reservoir(fw.world, fw.tracer, s, di.light_candidates, di.bsdf_candidates, di.visibility_reuse, rng,
-                                tiles.of(x, y, width, f));
+                                tiles.of(x, y, width, f.frame, f.seed, f.chain));
   }
 };
 
@@ -62,9 +47,8 @@ struct Shader {
 
 template <class B>
 struct RestirDiChain : ReservoirChain<B, DiReservoir> {
-  typename B::Exec::template Array<LightTileEntry> tiles;
-  typename B::Exec::template Array<EnvTileEntry> env_tiles;
-  size_t bytes() const { return ReservoirChain<B, DiReservoir>::bytes() + array_bytes(tiles) + array_bytes(env_tiles); }
+  LightTileBuffers<typename B::Exec> tiles;
+  size_t bytes() const { return ReservoirChain<B, DiReservoir>::bytes() + tiles.bytes(); }
 };
 
 template <class B>
@@ -91,7 +75,7 @@ class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
     using namespace di_frame_detail;
     const DiOptions& di = ctx_.options.di;
     const FrameWorld<Tracer>& fw = this->fw();
-    const Tiles tiles = light_tiles(frame, f, c);
+    const LightTileSet tiles = light_tiles(frame, f, c);
     this->template candidates<DiReservoir>(frame, c, Sampler<Tracer>{fw, di, f, tiles, c.width}, "ReSTIR DI candidates");
     const bool planted_now = ctx_.planted && ctx_.planted->history_visibility_now;
     c.reuse(di.reuse, frame,
@@ -102,22 +86,12 @@ class RestirDiFrame final : public ReservoirFrame<B, RestirDiChain<B>> {
                                       "ReSTIR DI shading");
   }
 
-  // This frame's light tiles for chain f.chain (unless di.light_tiles = 0), drawn by a stage of the
-  // backend into the chain's buffers (LightTileStage: on the device for the CUDA backend, from its
-  // copy of the lights; 1 MB, plus 3.6 MB of environment directions, never copied).
-  di_frame_detail::Tiles light_tiles(const FrameInfo& frame, const ReuseFrame& f, Chain& c) {
+  // This frame's light tiles for chain f.chain (unless di.light_tiles = 0).
+  LightTileSet light_tiles(const FrameInfo& frame, const ReuseFrame& f, Chain& c) {
     const DiOptions& di = ctx_.options.di;
     if (!(di.light_tiles > 0 && di.light_candidates > 0)) return {};
-    StageTimer timer(frame.stages, "light_tiles");
-    const LightsView& lights = this->fw().world.lights;
-    const LightTileShape shape = light_tile_shape(lights, di.light_tiles, di.light_tile_size, di.env_tile_size);
-    if (!shape.any()) return {};
-    c.tiles.reserve(size_t(shape.count) * size_t(shape.size));
-    if (shape.env_size > 0) c.env_tiles.reserve(size_t(shape.count) * size_t(shape.env_size));
-    EnvTileEntry* env = shape.env_size > 0 ? c.env_tiles.data : nullptr;
-    const LightTileStage stage{lights, shape.size, shape.env_size, f.frame, f.seed, f.chain, c.tiles.data, env};
-    Exec::for_chunks(stage.items(shape.count), kLightTileChunk, stage, "light tiles");
-    return {c.tiles.data, env, shape.count, shape.size, shape.env_size};
+    return c.tiles.draw(this->fw().world.lights, di.light_tiles, di.light_tile_size, di.env_tile_size, f.frame, f.seed, f.chain,
+                        frame.stages);
   }
 };
 

@@ -52,14 +52,6 @@ RESTIR_HD inline float di_target(const LightsView& lights, float eps, const Trac
   return t;
 }
 
-// A pixel's pre-sampled light tile (LightTiles) as the candidates read it: null entries, no tile.
-struct DiTileView {
-  const LightTileEntry* lights = nullptr;
-  uint32_t light_count = 0;
-  const EnvTileEntry* env = nullptr;
-  uint32_t env_count = 0;
-};
-
 // The initial resampling of one pixel (di_initial_reservoir, di_sampling.h): the two strategies'
 // candidates streamed into one reservoir with their balance-heuristic resampling weights.
 template <class Tracer>
@@ -72,7 +64,7 @@ class DiInitialResampler {
         bsdf_visibility_(!visibility && bsdf_candidates > 0), frame_(s.frame()), wo_l_(frame_.to_local(s.wo)) {
     r_.confidence = float(light_candidates + bsdf_candidates);
   }
-  RESTIR_HD void light_candidates(int count, Pcg32& rng, const DiTileView& tile);
+  RESTIR_HD void light_candidates(int count, Pcg32& rng, const LightTileView& tile);
   RESTIR_HD void bsdf_candidates(int count, Pcg32& rng);
   RESTIR_HD DiReservoir& reservoir() { return r_; }
 
@@ -100,21 +92,16 @@ class DiInitialResampler {
     const float den = ml_ * p_light + mb_ * p_bsdf;
     return den > 0 ? target / den : 0.0f;
   }
-  // A tile entry's index for uniform u (the last one for u rounding up to 1).
-  RESTIR_HD static uint32_t pick(float u, uint32_t count) {
-    const uint32_t i = uint32_t(u * float(count));
-    return i < count - 1 ? i : count - 1;
-  }
-  RESTIR_HD uint32_t select(float u_select, const DiTileView& tile, float& pmf) const {
+  RESTIR_HD uint32_t select(float u_select, const LightTileView& tile, float& pmf) const {
     if (tile.light_count > 0) {  // the emitter from the pixel's tile: marginally by the selection pmf
-      const LightTileEntry& t = tile.lights[pick(u_select, tile.light_count)];
+      const LightTileEntry& t = tile.lights[LightTileView::pick(u_select, tile.light_count)];
       pmf = t.pmf;
       return t.emitter;
     }
     return L_.select_emitter(u_select, &pmf);
   }
-  RESTIR_HD void scalar_light_candidate(uint32_t e, float pmf, Vec2 u, float u_stream, const DiTileView& tile);
-  RESTIR_HD void stream_batch(const DiCandidateBatch& b, uint32_t scalar, uint32_t skip, const float* u_stream, const DiTileView& tile);
+  RESTIR_HD void scalar_light_candidate(uint32_t e, float pmf, Vec2 u, float u_stream, const LightTileView& tile);
+  RESTIR_HD void stream_batch(const DiCandidateBatch& b, uint32_t scalar, uint32_t skip, const float* u_stream, const LightTileView& tile);
 
   const PathWorld& w_;
   const LightsView& L_;
@@ -131,10 +118,10 @@ class DiInitialResampler {
 // lane of a SIMT vector), on the CPU the kinds the batch leaves (delta lights, the environment, a
 // receiver inside a sphere).
 template <class Tracer>
-RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, float pmf, Vec2 u, float u_stream, const DiTileView& tile) {
+RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, float pmf, Vec2 u, float u_stream, const LightTileView& tile) {
   using di_detail::LightView;
   if (tile.env_count > 0 && e == L_.environment_emitter()) {  // a presampled direction (LightTiles)
-    const EnvTileEntry& en = tile.env[pick(u.x, tile.env_count)];
+    const EnvTileEntry& en = tile.env[LightTileView::pick(u.x, tile.env_count)];
     if (!(en.pdf > 0)) return;
     const LightPoint y{en.direction, e};
     LightView v;
@@ -159,7 +146,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::scalar_light_candidate(uint32_t e, fl
 // order -- the same samples, targets and weights as one at a time, bit for bit, which is how the GPU
 // evaluates them.
 template <class Tracer>
-RESTIR_HD void DiInitialResampler<Tracer>::light_candidates(int count, Pcg32& rng, const DiTileView& tile) {
+RESTIR_HD void DiInitialResampler<Tracer>::light_candidates(int count, Pcg32& rng, const LightTileView& tile) {
 #ifdef __CUDA_ARCH__
   for (int i = 0; i < count; ++i) {
     const float u_select = rng.next_float();
@@ -196,7 +183,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::light_candidates(int count, Pcg32& rn
 
 template <class Tracer>
 RESTIR_HD void DiInitialResampler<Tracer>::stream_batch(const DiCandidateBatch& b, uint32_t scalar, uint32_t skip, const float* u_stream,
-                                                        const DiTileView& tile) {
+                                                        const LightTileView& tile) {
   for (int i = 0; i < b.n; ++i) {
     if (skip & (1u << i)) continue;
     const uint32_t e = b.emitter[i];
@@ -246,7 +233,7 @@ RESTIR_HD void DiInitialResampler<Tracer>::bsdf_candidates(int count, Pcg32& rng
 // tile's environment directions when there are some, instead of sampling the map.
 template <class Tracer>
 RESTIR_HD inline DiReservoir di_initial_reservoir(const PathWorld& w, const Tracer& tracer, const GSurface& s, int light_candidates,
-                                                     int bsdf_candidates, bool visibility, Pcg32& rng, const DiTileView& tile) {
+                                                     int bsdf_candidates, bool visibility, Pcg32& rng, const LightTileView& tile) {
   DiInitialResampler<Tracer> ris(w, tracer, s, light_candidates, bsdf_candidates, visibility);
   DiReservoir& r = ris.reservoir();
   if (!s.valid || w.lights.empty() || bsdf_is_delta(s.bsdf)) return r;

@@ -20,8 +20,8 @@ PathSettings path_settings(const Options& o) {
 // The initial paths and the shifts on the host's widest instruction set (core/widest.h): ReSTIR PT's
 // candidate stage took 20% less time, its spatial pass 18% less (teapots, 640x360, 6 paired runs).
 RL_WIDEST PathReservoir initial_path_reservoir(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps,
-                                               const GSurface& s, uint64_t seed, int candidates) {
-  return initial_path_reservoir<EmbreeTracer>(world, tracer, ps, s, seed, candidates);
+                                               const GSurface& s, uint64_t seed, int candidates, const LightTileView& tile) {
+  return initial_path_reservoir<EmbreeTracer>(world, tracer, ps, s, seed, candidates, tile);
 }
 
 RL_WIDEST bool shift_path(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const PathSample& base,

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "frame/light_tiles.h"
 #include "frame/reservoir_chain.h"
 #include "integrators/restir_pt/restir_pt_pixel.h"
 
@@ -18,15 +19,19 @@ namespace rl {
 
 namespace pt_frame_detail {
 
-// A pixel's initial reservoir: pt.candidates walks from its primary hit (walk.h).
+// A pixel's initial reservoir: pt.candidates walks from its primary hit (walk.h), their resampled
+// NEE (pt.nee_candidates > 1) from the pixel's light tile.
 template <class Tracer>
 struct Sampler {
   FrameWorld<Tracer> fw;
   PathSettings ps;
   int candidates;
   ReuseFrame f;
-  RESTIR_HD PathReservoir operator()(const GSurface& s, int, int, uint32_t p) const {
-    return initial_path_reservoir(fw.world, fw.tracer, ps, s, initial_paths_seed(f.seed, p, f.frame, f.chain), candidates);
+  LightTileSet tiles;
+  int width;
+  RESTIR_HD PathReservoir operator()(const GSurface& s, int x, int y, uint32_t p) const {
+    return initial_path_reservoir(fw.world, fw.tracer, ps, s, initial_paths_seed(f.seed, p, f.frame, f.chain), candidates,
+                                  tiles.of(x, y, width, f.frame, f.seed, f.chain));
   }
 };
 
@@ -41,10 +46,17 @@ struct Shader {
 
 }  // namespace pt_frame_detail
 
+// A chain's buffers, with the light tiles of resampled NEE (drawn only for pt.nee_candidates > 1).
 template <class B>
-class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReservoir>> {
-  using Base = ReservoirFrame<B, ReservoirChain<B, PathReservoir>>;
-  using Chain = ReservoirChain<B, PathReservoir>;
+struct RestirPtChain : ReservoirChain<B, PathReservoir> {
+  LightTileBuffers<typename B::Exec> tiles;
+  size_t bytes() const { return ReservoirChain<B, PathReservoir>::bytes() + tiles.bytes(); }
+};
+
+template <class B>
+class RestirPtFrame final : public ReservoirFrame<B, RestirPtChain<B>> {
+  using Base = ReservoirFrame<B, RestirPtChain<B>>;
+  using Chain = RestirPtChain<B>;
   using typename Base::Exec;
   using typename Base::Tracer;
   using Base::ctx_;
@@ -93,7 +105,13 @@ class RestirPtFrame final : public ReservoirFrame<B, ReservoirChain<B, PathReser
     using namespace pt_frame_detail;
     const Options& o = ctx_.options;
     const FrameWorld<Tracer>& fw = this->fw();
-    this->template candidates<PathReservoir>(frame, c, Sampler<Tracer>{fw, settings_, o.pt.candidates, f}, "ReSTIR PT initial paths");
+    // Resampled NEE's light tiles (the di.light_tiles options: the same tiles ReSTIR DI's candidates read).
+    const LightTileSet tiles = o.pt.nee_candidates > 1 && o.di.light_tiles > 0
+                                   ? c.tiles.draw(fw.world.lights, o.di.light_tiles, o.di.light_tile_size, o.di.env_tile_size, f.frame,
+                                                  f.seed, f.chain, frame.stages)
+                                   : LightTileSet{};
+    this->template candidates<PathReservoir>(frame, c, Sampler<Tracer>{fw, settings_, o.pt.candidates, f, tiles, c.width},
+                                             "ReSTIR PT initial paths");
     const PlantedBias planted = ctx_.planted ? *ctx_.planted : PlantedBias{};
     c.reuse(o.pt.reuse, frame,
             PtBridges<Tracer>{fw, settings_, o.pt.history_scene == HistoryScene::previous, planted, ctx_.planted != nullptr}, f,

@@ -33,7 +33,7 @@ RESTIR_HD bool shift_path(const PathWorld& world, const Tracer& tracer, const Pa
 // The CPU backend's copies of initial_path_reservoir and shift_path compiled for the host's widest
 // instruction set (pt_path.cpp, core/widest.h): calls with an EmbreeTracer pick these overloads.
 PathReservoir initial_path_reservoir(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const GSurface& s,
-                                     uint64_t seed, int candidates);
+                                     uint64_t seed, int candidates, const LightTileView& tile = {});
 bool shift_path(const PathWorld& world, const EmbreeTracer& tracer, const PathSettings& ps, const PathSample& base, const GSurface& y1,
                 PathSample& out, float& jacobian);
 

@@ -9,6 +9,7 @@
 #include "integrators/path/path_pixel.h"
 #include "integrators/restir_pt/pt_path.h"
 #include "frame/frame_world.h"
+#include "frame/light_tiles.h"
 
 namespace rl {
 
@@ -242,7 +243,8 @@ RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, boo
 //    density is the point's, light_pdf.
 //  - N > 1 (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, sec. 6.1: NEE by RIS inside the path
 //    reservoir): N points of sample_point (the first with u, the rest from the vertex's second
-//    stream), one chosen by resampled importance sampling (Talbot et al. 2005) with the target
+//    stream; from the pixel's light tile when the frame drew tiles: nee_candidate), one chosen by
+//    resampled importance sampling (Talbot et al. 2005) with the target
 //    q = luminance(f_s|cos| Le G) m_t -- the unshadowed contribution from v, the path's prefix being
 //    common to all candidates -- and weights w_i = q(X_i) / (N p(X_i)); one shadow ray for the
 //    chosen point. Its unbiased contribution weight is W = Σ w_i / q(Y) (GRIS, Lin et al. 2022,
@@ -253,6 +255,28 @@ RESTIR_HD inline float strategy_weight(const PathSettings& ps, bool nee_tag, boo
 //    strategy's paths that hit an emitter keep their weight unchanged. The chosen point's density
 //    has no closed form, so no shift may replay the choice (restir_pt.cpp's check: NEE paths
 //    reconnect at their light vertex or before).
+// One light point of resampled NEE: from the pixel's light tile when the frame drew tiles (an
+// entry's emitter; for the environment, one of the tile's presampled directions with its radiance
+// and density), else by Lights::sample_point. Either way it is marginally distributed by
+// sample_point's density (light_tiles.h), which ep.pdf is (selection pmf included).
+RESTIR_HD inline bool nee_candidate(const LightsView& lights, const LightTileView& tile, float u_select, Vec2 u_point,
+                                    EmitterPoint& ep, SampledEmitter& sampled) {
+  bool ok;
+  if (tile.light_count == 0) {
+    ok = lights.sample_point(u_select, u_point, ep, &sampled.env_radiance);
+  } else if (const LightTileEntry& en = tile.lights[LightTileView::pick(u_select, tile.light_count)];
+             tile.env_count > 0 && en.emitter == lights.environment_emitter()) {
+    const EnvTileEntry& d = tile.env[LightTileView::pick(u_point.x, tile.env_count)];
+    ep = EmitterPoint{d.direction, Vec3(0), en.emitter, en.pmf * d.pdf};
+    sampled.env_radiance = d.radiance;
+    ok = ep.pdf > 0 && std::isfinite(ep.pdf);
+  } else {
+    ok = lights.sample_point_on(en.emitter, en.pmf, u_point, ep, &sampled.env_radiance);
+  }
+  sampled.pdf = ep.pdf;
+  return ok;
+}
+
 struct NeeSample {
   EmitterPoint ep;
   Terminal t;
@@ -260,7 +284,7 @@ struct NeeSample {
   float density = 0;  // light_pdf for one candidate; 1 / W for several
 };
 RESTIR_HD inline bool nee_light(const PathWorld& world, const PathSettings& ps, const Vertex& v, uint64_t seed, int vertex,
-                                const VertexRandoms& u, NeeSample& out) {
+                                const VertexRandoms& u, const LightTileView& tile, NeeSample& out) {
   const int n = ps.pt.nee_candidates;
   if (n <= 1) {
     SampledEmitter sampled;
@@ -279,8 +303,7 @@ RESTIR_HD inline bool nee_light(const PathWorld& world, const PathSettings& ps, 
     const float u_keep = r.next_float();
     EmitterPoint ep;
     SampledEmitter sampled;
-    if (!world.lights.sample_point(u_select, u_point, ep, &sampled.env_radiance) || !(ep.pdf > 0)) continue;
-    sampled.pdf = ep.pdf;
+    if (!nee_candidate(world.lights, tile, u_select, u_point, ep, sampled)) continue;
     const Terminal t = eval_terminal(world, ps, v, ep.emitter, ep.position, ep.normal, &sampled);
     const float mis = strategy_weight(ps, true, v.delta, t.light_pdf, t.bsdf_pdf);
     const float q = luminance(t.fcos * t.emission) * t.geometry * mis;
@@ -468,9 +491,10 @@ RESTIR_HD inline float replayed_roulette(const PathSettings& ps, int d, const Ve
 
 // One walk from the primary surface s with the random streams of walk_seed; calls
 // offer(const OfferedPath&) for every path it contains (each NEE connection and each emitter hit).
+// `tile`: the pixel's light tile, read by resampled NEE only (pt.nee_candidates > 1).
 template <class Tracer, class Offer>
 RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const GSurface& s,
-                         uint64_t walk_seed, Walk& w, const Offer& offer) {
+                         uint64_t walk_seed, Walk& w, const Offer& offer, const LightTileView& tile = {}) {
   const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
   w.v[1] = vertex_from_surface(s);
   w.footprint = footprint_threshold(ps, s);
@@ -482,7 +506,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     const VertexRandoms u = vertex_randoms(walk_seed, d);
     // Next-event estimation: path x_1..x_d + light point.
     NeeSample nee;
-    if (ps.path.nee && !v.delta && nee_light(world, ps, v, walk_seed, d, u, nee)) {
+    if (ps.path.nee && !v.delta && nee_light(world, ps, v, walk_seed, d, u, tile, nee)) {
       const Terminal& t = nee.t;
       const EmitterPoint& ep = nee.ep;
       if (!is_black(t.fcos * t.emission) && !tracer.occluded(t.shadow))
@@ -570,7 +594,7 @@ RESTIR_HD inline uint64_t initial_paths_seed(uint64_t seed, uint32_t p, uint32_t
 
 template <class Tracer>
 RESTIR_HD PathReservoir initial_path_reservoir(const PathWorld& world, const Tracer& tracer, const PathSettings& ps,
-                                                  const GSurface& s, uint64_t seed, int candidates) {
+                                                  const GSurface& s, uint64_t seed, int candidates, const LightTileView& tile = {}) {
   PathReservoir r;
   r.confidence = float(candidates);
   if (!s.valid || world.lights.empty()) return r;
@@ -587,7 +611,7 @@ RESTIR_HD PathReservoir initial_path_reservoir(const PathWorld& world, const Tra
       }
       if (restir::stream(r, PathSample{}, target, target / o.path_pdf / float(candidates), stream_rng.next_float()))
         r.sample = pt_detail::describe_offered(ps, w, o, walk_seed);
-    });
+    }, tile);
   }
   restir::finalize(r);
   return r;

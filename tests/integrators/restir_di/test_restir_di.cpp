@@ -3,7 +3,7 @@
 #include <set>
 
 #include "convergence.h"
-#include "integrators/restir_di/light_tiles.h"
+#include "frame/light_tiles.h"
 #include "stat_utils.h"
 
 using namespace rl;

@@ -1,15 +1,72 @@
-// ReSTIR DI's pre-sampled light tiles, drawn each frame by a stage of the backend (LightTileStage:
-// on the GPU for the CUDA backend, no host draw and no copy).
+// Pre-sampled light tiles (Wyman and Panteleev 2021; RTXDI), shared by the algorithms whose light
+// candidates come from them: ReSTIR DI's initial candidates and ReSTIR PT's resampled next-event
+// estimation (pt.nee_candidates > 1). Drawn each frame by a stage of the backend (LightTileStage: on
+// the GPU for the CUDA backend, no host draw and no copy) into a chain's LightTileBuffers.
 #pragma once
 #include <algorithm>
 #include <span>
 #include <vector>
 
 #include "core/rng.h"
+#include "frame/integrator.h"
+#include "frame/stage_times.h"
 #include "scene/lights.h"
-#include "integrators/restir_di/di_kernel.h"
 
 namespace rl {
+
+// One pre-selected emitter of a light tile and its selection probability.
+struct LightTileEntry {
+  uint32_t emitter = kNoEmitter;
+  float pmf = 0;
+};
+
+// One presampled direction of the environment map and what its sampling computed: the radiance
+// arriving from it and its solid-angle density (without the environment's selection pmf).
+struct EnvTileEntry {
+  Vec3 direction;
+  Rgb radiance{0};
+  float pdf = 0;
+};
+
+// The tile that pixel (x, y) takes its candidates from (LightTiles): drawn per 16x16-pixel block,
+// frame and chain from its own stream, so every pixel of a block reads the same `count` entries.
+inline constexpr int kLightTileBlockPixels = 16;
+RESTIR_HD inline uint32_t light_tile_index(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain, int count) {
+  const int blocks_x = (width + kLightTileBlockPixels - 1) / kLightTileBlockPixels;
+  const uint32_t block = uint32_t((y / kLightTileBlockPixels) * blocks_x + x / kLightTileBlockPixels);
+  Pcg32 rng = make_rng(block, frame, RngPass::light_tiles, seed, chain + 0x9e3779b9u);
+  const uint32_t last = uint32_t(count) - 1, i = uint32_t(rng.next_float() * float(count));
+  return i < last ? i : last;
+}
+
+// A pixel's pre-sampled light tile as the candidates read it: null entries, no tile.
+struct LightTileView {
+  const LightTileEntry* lights = nullptr;
+  uint32_t light_count = 0;
+  const EnvTileEntry* env = nullptr;
+  uint32_t env_count = 0;
+  // An entry's index for uniform u (the last one for u rounding up to 1).
+  RESTIR_HD static uint32_t pick(float u, uint32_t count) {
+    const uint32_t i = uint32_t(u * float(count));
+    return i < count - 1 ? i : count - 1;
+  }
+};
+
+// One frame's tiles of a chain as the stages read them (LightTileBuffers::draw).
+struct LightTileSet {
+  const LightTileEntry* lights = nullptr;
+  const EnvTileEntry* env = nullptr;
+  int count = 0, size = 0, env_size = 0;
+  // Pixel (x, y)'s tile in this frame and chain; empty without tiles (candidates select from every emitter).
+  RESTIR_HD LightTileView of(int x, int y, int width, uint32_t frame, uint64_t seed, uint32_t chain) const {
+    LightTileView v;
+    if (count <= 0 || size <= 0) return v;
+    const size_t t = light_tile_index(x, y, width, frame, seed, chain, count);
+    v.lights = lights + t * size_t(size), v.light_count = uint32_t(size);
+    if (env_size > 0) v.env = env + t * size_t(env_size), v.env_count = uint32_t(env_size);
+    return v;
+  }
+};
 
 // How many tiles, entries and environment directions a frame's tiles have: none without emitters,
 // no environment directions without an environment.
@@ -99,6 +156,29 @@ class LightTiles {
   int count_ = 0, size_ = 0, env_size_ = 0;
   std::vector<LightTileEntry> entries_;
   std::vector<EnvTileEntry> env_entries_;
+};
+
+// A chain's tile buffers in the backend's memory (1 MB at the defaults, plus 3.6 MB of environment
+// directions), drawn by LightTileStage on the backend each frame (never copied).
+template <class Exec>
+struct LightTileBuffers {
+  typename Exec::template Array<LightTileEntry> entries;
+  typename Exec::template Array<EnvTileEntry> env;
+  size_t bytes() const { return array_bytes(entries) + array_bytes(env); }
+  // This frame's tiles for `chain` (count tiles of size emitters and env_size environment
+  // directions; none without emitters or with count 0), timed as the stage "light_tiles".
+  LightTileSet draw(const LightsView& lights, int count, int size, int env_size, uint32_t frame, uint64_t seed, uint32_t chain,
+                    StageTimes* stages) {
+    StageTimer timer(stages, "light_tiles");
+    const LightTileShape shape = light_tile_shape(lights, count, size, env_size);
+    if (!shape.any()) return {};
+    entries.reserve(size_t(shape.count) * size_t(shape.size));
+    if (shape.env_size > 0) env.reserve(size_t(shape.count) * size_t(shape.env_size));
+    EnvTileEntry* env_data = shape.env_size > 0 ? env.data : nullptr;
+    const LightTileStage stage{lights, shape.size, shape.env_size, frame, seed, chain, entries.data, env_data};
+    Exec::for_chunks(stage.items(shape.count), kLightTileChunk, stage, "light tiles");
+    return {entries.data, env_data, shape.count, shape.size, shape.env_size};
+  }
 };
 
 }  // namespace rl

@@ -1,4 +1,4 @@
-#include "integrators/restir_di/light_tiles.h"
+#include "frame/light_tiles.h"
 
 #include <algorithm>
 
