@@ -31,27 +31,34 @@ namespace rl {
 struct EmbreeTracer;
 struct PathWorld;
 
+// Packed exactly (issue 48: compact state): the counters in bytes (n <= pt_detail::kMaxVertices =
+// 66), and the fields that only one case of k reads share their storage, each union's member valid
+// in the case its comment names (rc and length tell which). A reservoir is 144 bytes, not 160.
 struct PathSample {
   uint64_t seed = 0;       // random stream of the walk (per-vertex streams are derived from it)
-  int length = 0;          // n (0 = no path)
+  uint8_t length = 0;      // n (0 = no path)
+  uint8_t rc = 0;          // reconnection vertex k in [2, n]; 0 = none (pure replay)
   bool nee = false;        // tag: last vertex sampled by next-event estimation (else by the BSDF)
-  int rc = 0;              // reconnection vertex k in [2, n]; 0 = none (pure replay)
   // Reconnection vertex x_k (valid when rc > 0).
   Vec3 rc_position;        // x_k; the direction for an environment or distant emitter
   Vec3 rc_normal;          // geometric normal at x_k (zero for delta lights / environment)
-  uint32_t rc_emitter = 0xffffffffu;  // the emitter when k == n
   // x_k's BSDF and shading frame (k < n), kept as what rebuilds them bit for bit: the material
   // (the walk's x_k, k >= 2, is always a ray hit), the reflectance make_bsdf was given there (the
   // texture value), and the shading normal (Frame::from_normal). 28 bytes instead of 92 in a
   // reservoir that every reuse pass reads k times per pixel (issue 9: compact ReSTIR state).
-  int rc_material = 0;
+  union {
+    uint32_t rc_emitter = 0xffffffffu;  // k == n: the emitter x_k is on
+    int rc_material;                    // k < n: x_k's material
+  };
   Rgb rc_reflectance{0};
   Vec3 rc_shading_normal;
   Vec3 rc_out;             // ω_k, leaving x_k toward x_{k+1} (k < n)
   Rgb rc_suffix{0};        // everything after x_k's own BSDF term: Π_{i>k} f_s|cos| × Le G (k < n);
                            // Le G of the last segment as the walk found it (k = n)
-  float rc_mis = 1;        // m_t of the tail when x_{n-1} is after x_k (k < n - 1)
-  float rc_tail_light_pdf = 0;  // k >= n - 1: the emitter's NEE density at x_n, to recompute m_t after a shift
+  union {
+    float rc_mis = 1;           // k < n - 1: m_t of the tail (x_{n-1} is after x_k)
+    float rc_tail_light_pdf;    // k >= n - 1: the emitter's NEE density at x_n, to recompute m_t after a shift
+  };
   float rc_tail_measure = 0;    // k = n - 1: factor turning a solid-angle pdf at x_k into the emitter's measure
   Vec3 rc_previous;        // x_{k-1}, for the jacobian
   float replay_pdf = 1;    // pdf of the replayed part: directions before x_{k-1} (k > 0), or the
@@ -63,7 +70,7 @@ using PathReservoir = restir::Reservoir<PathSample>;
 // The sample's identity for the duplication map (reservoir_chain.h): the walk's random stream, which
 // every shift keeps (ReSTIR PT Enhanced, sec. 5: "share the same initial random seed").
 RESTIR_HD inline uint64_t duplicate_key(const PathSample& x) { return mix64(x.seed); }
-static_assert(sizeof(PathReservoir) <= 160, "ReSTIR PT's reservoir outgrew 160 bytes (bench_scaling prints its size)");
+static_assert(sizeof(PathReservoir) <= 144, "ReSTIR PT's reservoir outgrew 144 bytes (bench_scaling prints its size)");
 
 // What a walk and a shift read: the path tracer's settings (path.*), so that restir-pt and its
 // reference render the same integral, and ReSTIR PT's own (pt.*) -- the option structs themselves,

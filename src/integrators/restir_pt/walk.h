@@ -413,8 +413,8 @@ RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, 
 RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal,
                                     bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float replay_pdf, float mis,
                                     const Terminal& t, PathSample& s) {
-  s.length = n;
-  s.rc = choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi, s.nee);
+  s.length = uint8_t(n);
+  s.rc = uint8_t(choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi, s.nee));
   const int k = s.rc;
   if (k == 0) {
     s.replay_pdf = replay_pdf;
@@ -444,9 +444,12 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
   Rgb suffix = tail;
   for (int i = k + 1; i <= n - 1; ++i) suffix *= (i == n - 1 ? last_fcos : w.fcos[size_t(i)]);
   s.rc_suffix = suffix;
-  s.rc_mis = mis;
-  s.rc_tail_light_pdf = t.light_pdf;
-  s.rc_tail_measure = t.measure;
+  if (k < n - 1) {
+    s.rc_mis = mis;
+  } else {
+    s.rc_tail_light_pdf = t.light_pdf;
+    s.rc_tail_measure = t.measure;
+  }
 }
 
 // One path of a walk as the walk offers it: x_1..x_n ending at an emitter point.
