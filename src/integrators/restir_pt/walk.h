@@ -441,9 +441,11 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
   s.rc_reflectance = xk.bsdf.reflectance;
   s.rc_shading_normal = xk.frame.n;
   s.rc_out = k == n - 1 ? t.wi : w.out[size_t(k)];
-  Rgb suffix = tail;
-  for (int i = k + 1; i <= n - 1; ++i) suffix *= (i == n - 1 ? last_fcos : w.fcos[size_t(i)]);
-  s.rc_suffix = suffix;
+  // Le G × (Π_{k<i<n-1} f_s|cos|, folded from the left) × the last segment's: the order a walk that
+  // keeps only a running product of the vertices after x_k can form it.
+  Rgb between(1);
+  for (int i = k + 1; i <= n - 2; ++i) between *= w.fcos[size_t(i)];
+  s.rc_suffix = tail * between * (k < n - 1 ? last_fcos : Rgb(1));
   if (k < n - 1) {
     s.rc_mis = mis;
   } else {
