@@ -144,7 +144,7 @@ bool is_explicit(const Options& o, std::string_view key) {
 }
 
 std::pair<int, int> max_depth_range(std::string_view integrator) {
-  // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
+  // ReSTIR PT counts a path's vertices in bytes (64 bounces at most); ReSTIR GI needs one bounce.
   if (integrator == "restir-pt" || integrator == "restir-gi") return {1, 64};
   return {0, 1024};
 }
@@ -239,7 +239,7 @@ void validate_options(const Options& o) {
   // 16384 x 16384 is allowed per axis, but not a 268-megapixel frame: 64 MPixel at most.
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
     throw OptionError(fmt::format("resolution {}x{} is too large (at most 64 megapixels)", o.film.width, o.film.height));
-  // ReSTIR PT stores a walk's vertices in fixed arrays (64 bounces); ReSTIR GI needs one bounce.
+  // ReSTIR PT counts a path's vertices in bytes (64 bounces at most); ReSTIR GI needs one bounce.
   if (const auto [lo, hi] = max_depth_range(o.integrator); o.path.max_depth < lo || o.path.max_depth > hi)
     throw OptionError(fmt::format("path.max_depth = {}: {} renders {} to {} bounces; set path.max_depth to a value in [{}, {}]{}",
                                   o.path.max_depth, o.integrator, lo, hi, lo, hi,

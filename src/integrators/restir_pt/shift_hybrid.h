@@ -1,6 +1,6 @@
 // The hybrid shift (GRIS, Lin et al. 2022, §7.2): random replay of the base path's prefix up to
 // y_{k-1}, then reconnection to x_k, where k is the first reconnectable vertex pair (x_{k-1}, x_k)
-// (choose_reconnection, walk.h: both rough and |x_k - x_{k-1}| >= pt.distance_threshold, or under
+// (reconnection_index, walk.h: both rough and |x_k - x_{k-1}| >= pt.distance_threshold, or under
 // pt.reconnection = footprint ReSTIR PT Enhanced's dual ray footprint, sec. 4); a path without such a
 // pair replays whole. Invertible only if the offset path's own walk would choose the same k: so no
 // replayed pair may pass the criterion (replay_prefix's check), and y_{k-1} and the reconnected

@@ -155,7 +155,7 @@ RESTIR_HD bool replay_last_vertex(const PathWorld& world, const Tracer& tracer, 
 }  // namespace pt_detail
 
 // The random-replay shift of `base` to the pixel whose primary surface is y1 (a valid surface).
-// Its walks choose no reconnection vertex (choose_reconnection), so every sample replays whole.
+// Its walks choose no reconnection vertex (reconnection_index), so every sample replays whole.
 template <class Tracer>
 RESTIR_HD bool shift_random_replay(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const PathSample& base,
                                    const GSurface& y1, PathSample& out, float& jacobian) {

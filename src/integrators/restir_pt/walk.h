@@ -15,6 +15,8 @@ namespace rl {
 
 namespace pt_detail {
 
+// The longest path a walk offers, x_1..x_66 (path.max_depth <= 64, options.cpp): its vertex counts
+// are stored in bytes (PathSample).
 constexpr int kMaxVertices = 66;
 
 // Per-vertex random streams: vertex d of a walk always uses the same numbers, whatever happened
@@ -363,68 +365,107 @@ RESTIR_HD Step take_step(const PathWorld& world, const Tracer& tracer, const Pat
   return st;
 }
 
-// The walk's bookkeeping, enough to describe any of its paths as a PathSample. Left
-// uninitialized (anonymous unions, an empty constructor): walk_from writes every entry before
-// anything reads it (entries 1..d at depth d). Zeroing its 66 vertices per pixel was 2.4% of a
-// ReSTIR PT frame on the teapots (perf).
-struct Walk {
-  union { Vertex v[kMaxVertices]; };   // v[1..d]
-  union { Rgb fcos[kMaxVertices]; };   // f_s|cos| of the continuation at v[i]
-  union { float pdf[kMaxVertices]; };  // density of the continuation direction at v[i]
-  union { Vec3 out[kMaxVertices]; };   // continuation direction at v[i]
-  union { bool delta_out[kMaxVertices]; };  // the continuation at v[i] went through a delta lobe
-  float footprint;  // footprint_threshold of the walk's primary hit x_1
-  RESTIR_HD Walk() {}
+// x_k as a path's description needs it (describe_path): x_{k-1}'s position, the density of the
+// replayed directions before x_{k-1}, x_k's point, normals, material and reflectance, and ω_k.
+struct RcVertex {
+  Vec3 previous;
+  float replay = 1;
+  Vec3 p, ng, shading_normal;
+  int material = -1;
+  Rgb reflectance{0};
+  Vec3 out;
 };
-
-// First reconnectable vertex k of the path ending in an emitter at vertex n (hybrid), 2 for
-// reconnection, 0 for replay. Reconnection needs a non-delta x_1 and non-delta events at x_1 and x_2
-// (a delta cannot connect to an arbitrary x_2, nor keep x_2's outgoing direction for another
-// incoming one): such paths get k = 0 and no reconnection shift, in either direction. `last_delta`:
-// the event at x_{n-1} (false for NEE); `last_out` its direction (toward x_n).
-RESTIR_HD inline int choose_reconnection(const PathSettings& ps, const Walk& w, int n, Vec3 terminal_pos, Vec3 terminal_normal,
-                                         bool terminal_is_direction, bool last_delta, Vec3 last_out, bool nee) {
-  auto event_delta = [&](int i) { return i == n - 1 ? last_delta : w.delta_out[size_t(i)]; };
-  if (ps.pt.shift == ShiftMapping::random_replay) return 0;
-  if (ps.pt.shift == ShiftMapping::reconnection) return w.v[1].delta || event_delta(1) || (n > 2 && event_delta(2)) ? 0 : 2;
-  for (int k = 2; k <= n; ++k) {
-    const Vertex& prev = w.v[size_t(k - 1)];
-    if (prev.delta || event_delta(k - 1)) continue;
-    const Vec3 dir = k == n ? last_out : w.out[size_t(k - 1)];
-    if (k == n) {  // emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far
-      const float distance = terminal_is_direction ? 0.0f : length(terminal_pos - prev.p);
-      if (emitter_reconnectable(ps, prev, terminal_is_direction, terminal_normal, dir, distance, w.footprint, nee)) return k;
-      continue;
-    }
-    const Vertex& cur = w.v[size_t(k)];
-    if (event_delta(k)) continue;
-    const float distance = length(cur.p - prev.p);
-    const Vec3 out = k == n - 1 ? last_out : w.out[size_t(k)];
-    if (pair_opens(ps, prev, cur, dir, distance, w.footprint) && pair_completes(ps, cur, prev.ng, dir, distance, out, w.footprint))
-      return k;
-  }
-  return 0;
+RESTIR_HD inline RcVertex rc_vertex(const Vertex& prev, float replay, const Vertex& xk, Vec3 out) {
+  return {prev.p, replay, xk.p, xk.ng, xk.frame.n, xk.material, xk.bsdf.reflectance, out};
 }
 
-// Fills the reconnection / replay description of path (x_1..x_n) of walk w (s.nee set). `last_fcos`
-// is the f_s|cos| of the final segment, `tail` = Le G, `replay_pdf` the path density a shift's
-// replay sees (own measure; the roulette's only under pt.roulette = replayed), `mis` its strategy
-// weight, `t` the terminal (for k = n - 1).
+// The walk's bookkeeping at step d (vertex x_d), constant in size whatever the path length (issue
+// 48: on the GPU a thread's state lives in registers, not in 66 stored vertices): the two vertices
+// the criterion looks at, left-folded products of the walk's terms, and the reconnection vertex
+// that every longer path shares. The hybrid criterion (GRIS §7.2) takes the *first* reconnectable
+// pair (x_{k-1}, x_k); a pair with k <= n - 2 reads only the walk's own continuation at x_k, so it
+// is decided as soon as that continuation is sampled, once for all longer paths (`found`); a path
+// offered at x_d tests only its own last pair (x_{d-1}, x_d) and its emitter (reconnection_index).
+// The products are formed in the order the stored walk formed them, so every float is the same.
+struct Walk {
+  Vertex prev, cur;             // x_{d-1} (d >= 2), x_d
+  Vec3 prev_out;                // the direction of the step x_{d-1} -> x_d
+  bool prev_delta_out = false;  // that step went through a delta lobe
+  bool v1_delta = false, delta_out1 = false, delta_out2 = false;  // pt.shift = reconnection's test
+  Rgb prefix{1};                // Π_{i<d} f_s|cos| of the continuations
+  float replay_prev = 1;        // Π_{i<=d-2} of the continuations' stored densities
+  float replay_cur = 1;         // Π_{i<=d-1}
+  int found = 0;                // the reconnection vertex of every path longer than found + 1 (0: none yet)
+  RcVertex rc;                  // x_found
+  Rgb between{1};               // Π_{found<i<d} f_s|cos|
+  float footprint = 0;          // footprint_threshold of the walk's primary hit x_1
+};
+
+// Reconnection vertex k of the path offered at step d, ending in an emitter at x_n, n = d + 1
+// (hybrid: the first reconnectable pair; reconnection: 2; random replay: 0). Reconnection needs a
+// non-delta x_1 and non-delta events at x_1 and x_2 (a delta cannot connect to an arbitrary x_2,
+// nor keep x_2's outgoing direction for another incoming one): such paths get k = 0 and no
+// reconnection shift, in either direction. `last_delta`: the event at x_{n-1} (false for NEE);
+// `last_out` its direction (toward x_n).
+RESTIR_HD inline int reconnection_index(const PathSettings& ps, const Walk& w, int d, Vec3 terminal_pos, Vec3 terminal_normal,
+                                        bool terminal_is_direction, bool last_delta, Vec3 last_out, bool nee) {
+  const int n = d + 1;
+  if (ps.pt.shift == ShiftMapping::random_replay) return 0;
+  if (ps.pt.shift == ShiftMapping::reconnection) {
+    const bool event1 = d == 1 ? last_delta : w.delta_out1;
+    const bool event2 = n > 2 && (d == 2 ? last_delta : w.delta_out2);
+    return w.v1_delta || event1 || event2 ? 0 : 2;
+  }
+  if (w.found > 0) return w.found;
+  if (d >= 2 && !w.prev.delta && !w.prev_delta_out && !last_delta) {  // (x_{n-2}, x_{n-1}) with x_{n-1}'s event toward x_n
+    const float distance = length(w.cur.p - w.prev.p);
+    if (pair_opens(ps, w.prev, w.cur, w.prev_out, distance, w.footprint) &&
+        pair_completes(ps, w.cur, w.prev.ng, w.prev_out, distance, last_out, w.footprint))
+      return d;
+  }
+  // Emitters are diffuse or delta: always reconnectable; lights at infinity are infinitely far.
+  if (w.cur.delta || last_delta) return 0;
+  const float distance = terminal_is_direction ? 0.0f : length(terminal_pos - w.cur.p);
+  return emitter_reconnectable(ps, w.cur, terminal_is_direction, terminal_normal, last_out, distance, w.footprint, nee) ? n : 0;
+}
+
+// After the continuation from x_d (direction `out`, `delta` its event): the pair (x_{d-1}, x_d) is
+// decided for every longer path. Hybrid: found = d if it is the first reconnectable one.
+// Reconnection: x_2 is kept (reconnection_index decides from the deltas).
+RESTIR_HD inline void decide_pair(const PathSettings& ps, Walk& w, int d, Vec3 out, bool delta) {
+  if (d == 1) w.delta_out1 = delta;
+  if (d == 2) w.delta_out2 = delta;
+  if (w.found > 0 || d < 2 || ps.pt.shift == ShiftMapping::random_replay) return;
+  if (ps.pt.shift == ShiftMapping::hybrid) {
+    if (w.prev.delta || w.prev_delta_out || delta) return;
+    const float distance = length(w.cur.p - w.prev.p);
+    if (!pair_opens(ps, w.prev, w.cur, w.prev_out, distance, w.footprint) ||
+        !pair_completes(ps, w.cur, w.prev.ng, w.prev_out, distance, out, w.footprint))
+      return;
+  }
+  w.found = d;
+  w.rc = rc_vertex(w.prev, w.replay_prev, w.cur, out);
+  w.between = Rgb(1);
+}
+
+// Fills the reconnection / replay description of the path offered at step d = n - 1 (s.nee set).
+// `last_fcos` is the f_s|cos| of the final segment, `tail` = Le G, `replay_pdf` the path density a
+// shift's replay sees (own measure; the roulette's only under pt.roulette = replayed), `mis` its
+// strategy weight, `t` the terminal (for k = n - 1).
 RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n, uint32_t emitter, Vec3 pos, Vec3 normal,
                                     bool is_direction, bool last_delta, Rgb last_fcos, Rgb tail, float replay_pdf, float mis,
                                     const Terminal& t, PathSample& s) {
+  const int d = n - 1;
   s.length = uint8_t(n);
-  s.rc = uint8_t(choose_reconnection(ps, w, n, pos, normal, is_direction, last_delta, t.wi, s.nee));
-  const int k = s.rc;
+  const int k = reconnection_index(ps, w, d, pos, normal, is_direction, last_delta, t.wi, s.nee);
+  s.rc = uint8_t(k);
   if (k == 0) {
     s.replay_pdf = replay_pdf;
     return;
   }
-  s.rc_previous = w.v[size_t(k - 1)].p;
-  float replay = 1;
-  for (int i = 1; i <= k - 2; ++i) replay *= w.pdf[size_t(i)];
-  s.replay_pdf = replay;
   if (k == n) {
+    s.rc_previous = w.cur.p;
+    s.replay_pdf = w.replay_cur;
     s.rc_position = pos;
     s.rc_normal = normal;
     s.rc_emitter = emitter;
@@ -434,18 +475,17 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
     s.rc_tail_light_pdf = t.light_pdf;
     return;
   }
-  const Vertex& xk = w.v[size_t(k)];
+  const RcVertex xk = k == w.found ? w.rc : rc_vertex(w.prev, w.replay_prev, w.cur, t.wi);
+  s.rc_previous = xk.previous;
+  s.replay_pdf = xk.replay;
   s.rc_position = xk.p;
   s.rc_normal = xk.ng;
   s.rc_material = xk.material;
-  s.rc_reflectance = xk.bsdf.reflectance;
-  s.rc_shading_normal = xk.frame.n;
-  s.rc_out = k == n - 1 ? t.wi : w.out[size_t(k)];
-  // Le G × (Π_{k<i<n-1} f_s|cos|, folded from the left) × the last segment's: the order a walk that
-  // keeps only a running product of the vertices after x_k can form it.
-  Rgb between(1);
-  for (int i = k + 1; i <= n - 2; ++i) between *= w.fcos[size_t(i)];
-  s.rc_suffix = tail * between * (k < n - 1 ? last_fcos : Rgb(1));
+  s.rc_reflectance = xk.reflectance;
+  s.rc_shading_normal = xk.shading_normal;
+  s.rc_out = xk.out;
+  // Le G × (Π_{k<i<n-1} f_s|cos|, folded from the left) × the last segment's.
+  s.rc_suffix = tail * (k < d ? w.between : Rgb(1)) * (k < d ? last_fcos : Rgb(1));
   if (k < n - 1) {
     s.rc_mis = mis;
   } else {
@@ -501,13 +541,20 @@ template <class Tracer, class Offer>
 RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const PathSettings& ps, const GSurface& s,
                          uint64_t walk_seed, Walk& w, const Offer& offer, const LightTileView& tile = {}) {
   const int max_depth = ps.path.max_depth < kMaxVertices - 2 ? ps.path.max_depth : kMaxVertices - 2;  // by value (device code)
-  w.v[1] = vertex_from_surface(s);
+  w.cur = vertex_from_surface(s);
+  w.prev_delta_out = false;
+  w.v1_delta = w.cur.delta;
+  w.delta_out1 = w.delta_out2 = false;
+  w.prefix = Rgb(1);
+  w.replay_prev = w.replay_cur = 1;
+  w.found = 0;
+  w.between = Rgb(1);
   w.footprint = footprint_threshold(ps, s);
   float pdf = 1;     // density of the walk's prefix, roulette included (the initial RIS weights')
   float replay = 1;  // the same as a shift replays it (roulette only under pt.roulette = replayed)
   Rgb beta(1);       // throughput, roulette divided out (pt.roulette = initial's survival)
   for (int d = 1; d <= max_depth; ++d) {
-    const Vertex& v = w.v[size_t(d)];
+    const Vertex& v = w.cur;
     const VertexRandoms u = vertex_randoms(walk_seed, d);
     // Next-event estimation: path x_1..x_d + light point.
     NeeSample nee;
@@ -521,10 +568,7 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     // Continue by direction sampling; an emitter hit is the BSDF strategy's path x_1..x_{d+1}.
     const Step st = take_step(world, tracer, ps, v, u);
     if (!st.ok) break;
-    w.fcos[size_t(d)] = st.fcos;
-    w.pdf[size_t(d)] = st.pdf;
-    w.out[size_t(d)] = st.dir;
-    w.delta_out[size_t(d)] = st.delta;
+    decide_pair(ps, w, d, st.dir, st.delta);
     if (!st.hit) {
       if (world.lights.has_environment()) {
         const uint32_t e = world.lights.environment_emitter();
@@ -555,9 +599,9 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
       }
     }
     if (d == max_depth) break;
-    w.v[size_t(d + 1)] = vertex_from_hit(world, si, -st.dir);
+    const Vertex next = vertex_from_hit(world, si, -st.dir);
     beta *= st.fcos / st.pdf;
-    const float q = roulette(ps, d, w.v[size_t(d + 1)], u, beta);
+    const float q = roulette(ps, d, next, u, beta);
     if (!(q > 0)) break;
     beta /= q;
     // The survival probability is part of the continuation's density. Replayed roulette: every
@@ -565,18 +609,24 @@ RESTIR_HD void walk_from(const PathWorld& world, const Tracer& tracer, const Pat
     // roulette: only the candidate's density `pdf` does (a planted bias of the tests,
     // PathSettings::roulette_in_replay, leaves it in the stored ones too).
     const bool stored = ps.pt.roulette == Roulette::replayed || ps.roulette_in_replay;
-    pdf *= w.pdf[size_t(d)] * q;
-    if (stored) w.pdf[size_t(d)] *= q;
-    replay *= w.pdf[size_t(d)];
+    pdf *= st.pdf * q;
+    replay *= stored ? st.pdf * q : st.pdf;
+    // Step d + 1: x_{d+1} becomes the current vertex.
+    if (w.found > 0 && d > w.found) w.between *= st.fcos;
+    w.prefix *= st.fcos;
+    w.replay_prev = w.replay_cur;
+    w.replay_cur = replay;
+    w.prev = w.cur;
+    w.cur = next;
+    w.prev_out = st.dir;
+    w.prev_delta_out = st.delta;
   }
 }
 
 // The contribution m_t f of an offered path; beta of a path is the product of the walk's f_s|cos|
 // before its last segment.
 RESTIR_HD inline Rgb offered_contribution(const Walk& w, const OfferedPath& o) {
-  Rgb beta(1);
-  for (int i = 1; i <= o.n - 2; ++i) beta *= w.fcos[size_t(i)];
-  return beta * o.last_fcos * o.tail * o.mis;
+  return w.prefix * o.last_fcos * o.tail * o.mis;
 }
 
 RESTIR_HD inline PathSample describe_offered(const PathSettings& ps, const Walk& w, const OfferedPath& o, uint64_t walk_seed) {
