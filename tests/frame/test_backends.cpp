@@ -107,6 +107,7 @@ TEST_SUITE("backends") {
             {"env-object.pbrt", {"pt.shift=random-replay", "path.russian_roulette=true"}},  // replay, roulette
             {"mirror-glass.pbrt", {"pt.direct=restir-di", "path.max_depth=2"}},  // delta vertices; ReSTIR DI adds direct light
             {"teapot.pbrt", {"render.debug_view=reconnection-depth"}},           // a debug view (and its histogram)
+            {"teapot.pbrt", {"pt.force_nee_reconnection=true", "pt.nee_candidates=4"}},  // resampled NEE from light tiles
         });
   }
 

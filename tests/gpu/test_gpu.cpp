@@ -313,6 +313,18 @@ TEST_CASE("restir-pt: CPU and CUDA renders agree, each shift (16 seeds stacked, 
   check_agree(cpu, render(scene, o).last);
 }
 
+// Resampled NEE (pt.nee_candidates): light tiles drawn on the device, environment candidates from
+// the tiles' presampled directions (teapots), area lights of very different sizes (Veach MIS).
+TEST_CASE("restir-pt: resampled NEE from light tiles on the CPU and CUDA agree (16 seeds stacked)") {
+  for (const std::string& path : {own_scene("teapot.pbrt"), shared_scene("veach-mis/scene-v4.pbrt")}) {
+    CAPTURE(path);
+    Scene scene = load_scene(path);
+    const Options o = options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                          "path.max_depth=5", "pt.force_nee_reconnection=true", "pt.nee_candidates=4"});
+    check_agree(frames_stacked(scene, o, g_seeds, Backend::cpu), frames_stacked(scene, o, g_seeds, gpu_backend()));
+  }
+}
+
 // Animated scenes (one frame written once for every backend): each ReSTIR integrator's temporal
 // reuse judges an animated history in the previous frame's scene, BVH and lights, on the device as
 // on the CPU. 5 frames: the dynamic room's light switches and its occluder moves within them;
