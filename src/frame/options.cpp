@@ -186,14 +186,16 @@ std::vector<std::string> fit_defaults_to_integrator(Options& o, bool sequence) {
 }
 
 namespace {
-// Paired spatial reuse exchanges the two shifts of defensive pairwise MIS between partners
-// (frame/paired_reuse.h): other MIS weights need shifts it does not make, and ReSTIR DI's
-// partner must evaluate a neighbour's target as the canonical one does (with visibility).
+// Paired spatial reuse exchanges the two shifts of a pair between partners (frame/paired_reuse.h):
+// the pairwise family of MIS weights (pairwise, symmetric and asymmetric ratio) reads only those;
+// the others need shifts it does not make, and ReSTIR DI's partner must evaluate a neighbour's
+// target as the canonical one does (with visibility).
 void check_paired_reuse(const Options& o) {
   const auto check = [&](const char* group, const ReuseOptions& r) {
-    if (r.spatial_pairing != SpatialPairing::paired || r.spatial_mis == restir::ReuseMis::pairwise) return;
-    throw OptionError(fmt::format("{}.spatial_pairing = paired: needs {}.spatial_mis = pairwise (the pairs exchange the "
-                                  "two shifts of pairwise MIS), not {}", group, group, enum_name(r.spatial_mis)));
+    if (r.spatial_pairing != SpatialPairing::paired || restir::detail::pairwise_family(r.spatial_mis)) return;
+    throw OptionError(fmt::format("{}.spatial_pairing = paired: needs {}.spatial_mis = pairwise, symmetric-ratio or "
+                                  "asymmetric-ratio (the pairs exchange the two shifts of each pair), not {}",
+                                  group, group, enum_name(r.spatial_mis)));
   };
   if (o.integrator == "restir-di" || o.integrator == "restir-pt") check("di", o.di.reuse);
   if (o.integrator == "restir-gi") check("gi", o.gi.reuse);
@@ -209,7 +211,7 @@ void check_paired_reuse(const Options& o) {
 void check_rgb_weights(const Options& o) {
   const auto check = [&](const char* group, const ReuseOptions& r) {
     if (!r.rgb_weights || r.spatial_mis != restir::ReuseMis::one_over_z) return;
-    throw OptionError(fmt::format("{}.rgb_weights = true: needs {}.spatial_mis = pairwise, generalized-balance or constant "
+    throw OptionError(fmt::format("{}.rgb_weights = true: needs {}.spatial_mis other than one-over-z "
                                   "(1/Z normalizes the selected sample alone, so the inputs' colours have no weights to sum)", group, group));
   };
   if (o.integrator == "restir-di" || o.integrator == "restir-pt") check("di", o.di.reuse);

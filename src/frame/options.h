@@ -108,9 +108,13 @@ template <> struct EnumNames<Roulette> {
 };
 
 template <> struct EnumNames<restir::ReuseMis> {
-  static constexpr std::array<std::pair<restir::ReuseMis, const char*>, 4> values{
-      {{restir::ReuseMis::constant, "constant"}, {restir::ReuseMis::one_over_z, "one-over-z"},
-       {restir::ReuseMis::generalized_balance, "generalized-balance"}, {restir::ReuseMis::pairwise, "pairwise"}}};
+  static constexpr std::array<std::pair<restir::ReuseMis, const char*>, 6> values{
+      {{restir::ReuseMis::constant, "constant"},
+       {restir::ReuseMis::one_over_z, "one-over-z"},
+       {restir::ReuseMis::generalized_balance, "generalized-balance"},
+       {restir::ReuseMis::pairwise, "pairwise"},
+       {restir::ReuseMis::symmetric_ratio, "symmetric-ratio"},
+       {restir::ReuseMis::asymmetric_ratio, "asymmetric-ratio"}}};
 };
 
 struct FilmOptions {
@@ -154,6 +158,7 @@ struct ReuseOptions {
   float spatial_radius = 20;
   int spatial_rounds = 1;
   restir::ReuseMis spatial_mis = restir::ReuseMis::pairwise;
+  float mis_ratio_exponent = 2;  // β of the ratio MIS weights (Pan et al. 2024)
   SpatialPairing spatial_pairing = SpatialPairing::none;
   float boiling_filter = 0;  // RTXDI's boiling filter strength (0: off; biased)
   bool duplication_map = false;  // ReSTIR PT Enhanced's duplication maps cap the history (biased)
@@ -259,11 +264,16 @@ void visit_reuse(const char* prefix, R& r, V& v) {
   v((p + "spatial_radius").c_str(), r.spatial_radius, "spatial reuse radius in pixels", Range{0, 1024});
   v((p + "spatial_rounds").c_str(), r.spatial_rounds, "spatial reuse passes per frame", Range{0, 16});
   v((p + "spatial_mis").c_str(), r.spatial_mis, "resampling MIS for spatial reuse");
+  v((p + "mis_ratio_exponent").c_str(), r.mis_ratio_exponent,
+    "temporal_mis / spatial_mis = symmetric-ratio or asymmetric-ratio (Pan et al. 2024): the exponent beta of their "
+    "similarity d = min(a/b, b/a)^beta of two domains' targets (larger: a neighbour's weight falls faster as its target "
+    "differs; unbiased for any beta)",
+    Range{0.25, 16});
   v((p + "spatial_pairing").c_str(), r.spatial_pairing,
     "paired: reciprocal neighbours from pairing textures (Lin, Kettunen, Wyman 2026, ReSTIR PT Enhanced sec. 3): a "
     "pixel's partners reuse from it in turn, so each pair's two shifts are made once (half the spatial pass's shifts and "
     "rays); spatial_neighbors textures, Gaussian offsets of sigma = 0.53 x spatial_radius; unbiased; needs spatial_mis = "
-    "pairwise. none: a golden-angle spiral per pixel");
+    "pairwise, symmetric-ratio or asymmetric-ratio. none: a golden-angle spiral per pixel");
   v((p + "boiling_filter").c_str(), r.boiling_filter,
     "BIASED (named option): RTXDI's boiling filter, strength in (0, 1]: after reuse, a reservoir whose unbiased "
     "contribution weight W exceeds (10 / strength - 9) x the mean nonzero W of its 16x16-pixel block is dropped "

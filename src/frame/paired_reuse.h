@@ -142,8 +142,8 @@ RESTIR_HD int paired_inputs(const ReuseOptions& rp, const GBufferView& g, const 
   return n;
 }
 
-// Pass 2 at pixel (x, y): its reservoir combined with its accepted partners' (defensive pairwise
-// MIS, as restir::combine with ReuseMis::pairwise), into next.
+// Pass 2 at pixel (x, y): its reservoir combined with its accepted partners' (rp.spatial_mis, one
+// of mis.h's pairwise family: defensive pairwise or the ratio weights, as restir::combine), into next.
 template <class Res, class MakeBridge>
 RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, const PairedShift* shifts,
                                      Res* next, const MakeBridge& make_bridge, const PairedRound& pr, const ReuseDebugView& dbg, int x,
@@ -169,6 +169,7 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
     return;
   }
   const float m_c = inputs[0]->confidence, m_rest = m_sum - m_c;
+  const restir::MisWeights weights = reuse_weights(rp.spatial_mis, rp, pr.f);
   if (inputs[0]->non_finite()) out.weight_sum = std::numeric_limits<float>::quiet_NaN();
   Pcg32 rng = spatial_stream(pr.f, pr.round, uint32_t(p));
   (void)rng.next_float();  // spatial_pixel's spiral rotation: the same streams for the same inputs
@@ -186,13 +187,14 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
       continue;
     }
     float m;
-    if (i == 0) {  // m_c: mis.h's pairwise canonical weight, p̂_{<-j}(X_c) from this pixel's own slots
+    if (i == 0) {  // m_c: mis.h's canonical weight, p̂_{<-j}(X_c) from this pixel's own slots
       const PairedShift* own = shifts + p * k;
-      m = m_c / m_sum;
+      m = restir::detail::pair_canonical_base(weights, m_c, m_sum, m_rest);
       for (int j = 1; j < n; ++j) {
         const PairedShift o = own[slot[j]];
-        m += restir::detail::pairwise_canonical_term(inputs[j]->confidence, m_sum, m_c, s.target, m_rest, o.target * o.jacobian);
+        m += restir::detail::pair_canonical_term(weights, inputs[j]->confidence, m_sum, m_c, m_rest, s.target, o.target * o.jacobian);
       }
+      m = m > 0 ? m : 0.0f;
     } else {  // m_j: the neighbour's own target p̂_j(X_j) over the jacobian is p̂_{<-j} at x (mis.h)
       float own_target = in.target / s.jacobian;
       if constexpr (requires { bridge.stored_target_valid(i); }) {
@@ -200,7 +202,7 @@ RESTIR_HD void paired_resample_pixel(const ReuseOptions& rp, const GBufferView& 
       } else {
         own_target = paired_own_target(bridge, i, in);
       }
-      m = restir::detail::pairwise_neighbor_weight(in.confidence, m_sum, m_rest, own_target, m_c, s.target);
+      m = restir::detail::pair_neighbor_weight(weights, in.confidence, m_sum, m_c, m_rest, s.target, own_target);
     }
     const float w = restir::resampling_weight(m, s.target, in.ucw, s.jacobian);
     if constexpr (requires { bridge.color(in.sample); }) {  // RGB weights: as restir::combine's (mis.h)

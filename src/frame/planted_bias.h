@@ -42,6 +42,9 @@ struct PlantedBias {
   // pt.nee_candidates > 1: the walk's resampled light point is weighted by its source density
   // p(Y) instead of its RIS contribution weight W (as if the choice among the candidates were free).
   bool nee_source_density = false;
+  // *.spatial_mis / temporal_mis = asymmetric-ratio: the canonical sample weighted by the symmetric
+  // ratio weight's formula instead of 1 - Σ_j m_j (restir/mis.h), so the weights do not sum to one.
+  bool ratio_canonical_symmetric = false;
 };
 
 }  // namespace rl

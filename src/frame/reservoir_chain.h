@@ -284,9 +284,11 @@ struct ReservoirChain {
   // n, temporal) makes a pixel's bridge (mis.h). planted: tests only (planted_bias.h).
   // rp.rgb_weights: the spatial rounds also write each pixel's shading colour (colors, has_colors).
   template <class Bridges>
-  void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& f,
+  void reuse(const ReuseOptions& rp, const FrameInfo& frame, const Bridges& bridges, const ReuseFrame& frame_streams,
              const PlantedBias* planted = nullptr) {
     using namespace chain_detail;
+    ReuseFrame f = frame_streams;
+    f.planted_ratio_canonical = planted && planted->ratio_canonical_symmetric;
     has_colors = rp.rgb_weights && rp.spatial_neighbors > 0 && rp.spatial_rounds > 0;
     ReuseColor color;
     if (has_colors) {

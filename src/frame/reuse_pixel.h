@@ -61,7 +61,13 @@ struct ReuseFrame {
   uint32_t frame = 0;
   uint64_t seed = 0;
   uint32_t chain = 0;
+  bool planted_ratio_canonical = false;  // tests only: PlantedBias::ratio_canonical_symmetric
 };
+
+// The MIS weights a reuse pass resamples with: rp's choice `kind` and its ratio exponent.
+RESTIR_HD inline restir::MisWeights reuse_weights(restir::ReuseMis kind, const ReuseOptions& rp, const ReuseFrame& f) {
+  return restir::MisWeights(kind, rp.mis_ratio_exponent, f.planted_ratio_canonical);
+}
 
 // Pixel p's random stream in spatial round `round` (its first number rotates the neighbour spiral):
 // the one key spatial_pixel and its look-ahead prefetch both draw from.
@@ -148,7 +154,7 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
   auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true);
   Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
   restir::CombineInfo info;
-  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), rp.temporal_mis, rng, &info);
+  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), reuse_weights(rp.temporal_mis, rp, f), rng, &info);
   dbg.rejected[p] += uint16_t(info.failed_shifts);
   if (info.selected == 1) dbg.source[p] = 1;
 }
@@ -232,7 +238,7 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
   restir::CombineInfo info;
   info.want_color = color.out != nullptr;
   info.color_input_target = color.planted_input_target;
-  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, size_t(n)), rp.spatial_mis, rng, &info);
+  next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, size_t(n)), reuse_weights(rp.spatial_mis, rp, f), rng, &info);
   if (color.out) color.out[p] = info.color;
   dbg.rejected[p] += uint16_t(info.failed_shifts);
   if (info.selected > 0) dbg.source[p] = 2;

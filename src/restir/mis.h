@@ -22,6 +22,7 @@
 //   bool stored_target_valid(int i) const;
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <span>
 
 #include "core/rng.h"
@@ -37,6 +38,22 @@ enum class ReuseMis {
   generalized_balance,  // Talbot 2005 / GRIS eq. 22: m_i(x) = M_i p̂_{←i}(x) / Σ_j M_j p̂_{←j}(x). Unbiased, O(N²).
   pairwise,             // Bitterli 2022 (thesis §9.1.3) / Wyman et al. 2023 course notes §7: defensive,
                         // confidence-weighted pairwise MIS against the canonical sample. Unbiased, O(N).
+  symmetric_ratio,      // Pan et al. 2024 ("Enhancing Spatiotemporal Resampling with a Novel MIS Weight",
+                        // eq. 15): pairwise, with the ratio of the two targets replaced by their
+                        // similarity d = min(p̂_0/p̂_←j, p̂_←j/p̂_0)^β. Unbiased, O(N).
+  asymmetric_ratio,     // Pan et al. 2024, eq. 16: a neighbour's weight from d, the canonical's the rest
+                        // (1 - Σ_j m_j). Unbiased, O(N).
+};
+
+// The resampling MIS weights of one reuse pass: which, and the ratio weights' exponent β.
+struct MisWeights {
+  ReuseMis kind = ReuseMis::pairwise;
+  float ratio_exponent = 2;  // β of symmetric_ratio / asymmetric_ratio (Pan et al. 2024 use 2)
+  // Tests only (PlantedBias::ratio_canonical_symmetric): asymmetric_ratio's canonical weight taken
+  // from symmetric_ratio's formula, so the weights no longer sum to one.
+  bool planted_canonical_symmetric = false;
+  RESTIR_HD constexpr MisWeights(ReuseMis k = ReuseMis::pairwise, float beta = 2, bool planted = false)  // NOLINT: from ReuseMis
+      : kind(k), ratio_exponent(beta), planted_canonical_symmetric(planted) {}
 };
 
 // Everything a reuse pass reports besides the new reservoir (debug views, tests).
@@ -76,6 +93,51 @@ RESTIR_HD inline float pairwise_neighbor_weight(float m_j, float m_sum, float m_
   return m_j / m_sum * pairwise_fraction(m_rest * p_from_j, m_c * p0);
 }
 
+// The ratio weights of Pan et al. 2024. The paper's text was not available to us; the weights are
+// written from its equations as a public implementation names them (eqs. 15, 16), generalised
+// with confidences as Bitterli's pairwise MIS is, and checked here from first principles: with
+// M_c the canonical confidence, R = ΣM − M_c, d_j(x) = d(p̂_0(x), p̂_{←j}(x)) >= 0,
+//   symmetric:  m_j(x) = M_j d_j / (M_c + R d_j),   m_c(x) = Σ_j (M_j/R) · M_c / (M_c + R d_j)
+//   asymmetric: m_j(x) = M_j d_j / (M_c + R d_j) where p̂_0(x) <= p̂_{←j}(x), else M_j d_j / (M_c + R);
+//               m_c(x) = 1 − Σ_j m_j(x)
+// Both sum to one over the techniques for every x (symmetric: each pair's two fractions sum to
+// M_j/R; asymmetric: by construction, with m_c >= 0 since m_j < M_j/R), whatever function d is,
+// and m_j(x) = 0 where domain j cannot produce x (p̂_{←j}(x) = 0 gives d = 0): the conditions of
+// GRIS (Lin et al. 2022, eqs. 19-20) for an unbiased reuse. d only decides how well they weigh.
+// d(a, b) = min(a/b, b/a)^β, 0 when either target is 0: 1 for equal targets, falling with their ratio.
+RESTIR_HD inline float ratio_difference(float a, float b, float beta) {
+  if (!(a > 0) || !(b > 0)) return 0;
+  const float r = a < b ? a / b : b / a;
+  return beta == 2.0f ? r * r : powf(r, beta);
+}
+RESTIR_HD inline float safe_fraction(float num, float den) { return den > 0 ? num / den : 0.0f; }
+
+// m_j(x) of neighbour j for the pairwise family (pairwise, symmetric_ratio, asymmetric_ratio), at
+// x with p0 = p̂_0(x) and pj = p̂_{←j}(x).
+RESTIR_HD inline float pair_neighbor_weight(const MisWeights& w, float m_j, float m_sum, float m_c, float m_rest, float p0, float pj) {
+  if (w.kind == ReuseMis::pairwise) return pairwise_neighbor_weight(m_j, m_sum, m_rest, pj, m_c, p0);
+  const float d = ratio_difference(p0, pj, w.ratio_exponent);
+  const bool shrink = w.kind == ReuseMis::symmetric_ratio || p0 <= pj;
+  return safe_fraction(m_j * d, m_c + m_rest * (shrink ? d : 1.0f));
+}
+// m_c(x) = base + Σ_j term_j(x) for the pairwise family: the base, then neighbour j's term at the
+// canonical sample x (p0 = p̂_0(x), pj = p̂_{←j}(x)).
+RESTIR_HD inline float pair_canonical_base(const MisWeights& w, float m_c, float m_sum, float m_rest) {
+  if (w.kind == ReuseMis::pairwise) return m_c / m_sum;
+  if (w.kind == ReuseMis::asymmetric_ratio && !w.planted_canonical_symmetric) return 1;
+  return m_rest > 0 ? 0.0f : 1.0f;  // symmetric: no neighbour with confidence leaves the canonical alone
+}
+RESTIR_HD inline float pair_canonical_term(const MisWeights& w, float m_j, float m_sum, float m_c, float m_rest, float p0, float pj) {
+  if (w.kind == ReuseMis::pairwise) return pairwise_canonical_term(m_j, m_sum, m_c, p0, m_rest, pj);
+  if (w.kind == ReuseMis::asymmetric_ratio && !w.planted_canonical_symmetric)
+    return -pair_neighbor_weight(w, m_j, m_sum, m_c, m_rest, p0, pj);
+  if (!(m_rest > 0)) return 0;
+  return m_j / m_rest * safe_fraction(m_c, m_c + m_rest * ratio_difference(p0, pj, w.ratio_exponent));
+}
+RESTIR_HD inline bool pairwise_family(ReuseMis m) {
+  return m == ReuseMis::pairwise || m == ReuseMis::symmetric_ratio || m == ReuseMis::asymmetric_ratio;
+}
+
 // p̂_{←i} of input i's own sample shifted to x = T_{i→0}(y) with `jacobian` |∂T_{i→0}/∂y|: its
 // stored target over that jacobian where the bridge vouches for it (see Bridge above).
 template <class Bridge, class Sample>
@@ -91,8 +153,9 @@ RESTIR_HD float own_target(const Bridge& bridge, int i, const Reservoir<Sample>&
 // Inputs must be finalized (ucw set) and carry their (possibly capped) confidence. The output's
 // confidence is the sum of the inputs' confidences, at most kMaxConfidence; its ucw is set.
 template <class Bridge, class Sample>
-RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, ReuseMis mis, Pcg32& rng,
-                          CombineInfo* info = nullptr) {
+RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reservoir<Sample>* const> inputs, MisWeights weights,
+                                    Pcg32& rng, CombineInfo* info = nullptr) {
+  const ReuseMis mis = weights.kind;
   Reservoir<Sample> out;
   const int n = int(inputs.size());
   float m_sum = 0;
@@ -136,13 +199,16 @@ RESTIR_HD Reservoir<Sample> combine(const Bridge& bridge, std::span<const Reserv
         m = den > 0 ? num / den : 0.0f;
         break;
       }
-      case ReuseMis::pairwise: {
+      case ReuseMis::pairwise:
+      case ReuseMis::symmetric_ratio:
+      case ReuseMis::asymmetric_ratio: {
         if (i == 0) {
-          m = m_c / m_sum;
+          m = detail::pair_canonical_base(weights, m_c, m_sum, m_rest);
           for (int j = 1; j < n; ++j)
-            m += detail::pairwise_canonical_term(inputs[size_t(j)]->confidence, m_sum, m_c, p0, m_rest, bridge.target_from(j, x));
+            m += detail::pair_canonical_term(weights, inputs[size_t(j)]->confidence, m_sum, m_c, m_rest, p0, bridge.target_from(j, x));
+          m = m > 0 ? m : 0.0f;  // asymmetric: 1 − Σ m_j, >= 0 up to rounding
         } else {
-          m = detail::pairwise_neighbor_weight(in.confidence, m_sum, m_rest, detail::own_target(bridge, i, in, x, jacobian), m_c, p0);
+          m = detail::pair_neighbor_weight(weights, in.confidence, m_sum, m_c, m_rest, p0, detail::own_target(bridge, i, in, x, jacobian));
         }
         break;
       }

@@ -72,6 +72,27 @@ Options rgb_di(const Scene& scene) {
                              "di.spatial_neighbors=6", "di.spatial_radius=4", "di.rgb_weights=true"});
 }
 
+// The ratio MIS weights of Pan et al. 2024 (restir/mis.h): spatial symmetric, temporal asymmetric,
+// or the other way round.
+Options ratio_pt(const Scene& scene, const char* spatial, const char* temporal, bool paired) {
+  Options o = pt_certification_options(scene);
+  set_option(o, "pt.shift", "hybrid");
+  set_option(o, "path.russian_roulette", "false");
+  set_option(o, "pt.spatial_mis", spatial);
+  set_option(o, "pt.temporal_mis", temporal);
+  if (paired) set_option(o, "pt.spatial_pairing", "paired");
+  return o;
+}
+
+Options ratio_di(const Scene& scene, const char* spatial, const char* temporal) {
+  Options o = options_for(scene, {"integrator=restir-di", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
+                             "film.width=16", "film.height=16", "di.light_candidates=4", "di.bsdf_candidates=1",
+                             "di.spatial_neighbors=6", "di.spatial_radius=4"});
+  set_option(o, "di.spatial_mis", spatial);
+  set_option(o, "di.temporal_mis", temporal);
+  return o;
+}
+
 Certification planted_certification() { return certification(restir::ReuseMis::pairwise, 200, 200, 16384); }
 
 // certify_one's test on each colour channel (the luminance certification sees no chroma).
@@ -160,7 +181,35 @@ TEST_SUITE("slow_equivalence_enhanced") {
   }
 }
 
+TEST_SUITE("slow_equivalence_enhanced") {
+  TEST_CASE("ratio MIS weights (Pan et al. 2024): ReSTIR PT (stripes, mirror-glass, Cornell box) and DI (many-lights) are equivalent to the path tracer") {
+    for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
+      const std::string path = own_scene(name);
+      Scene scene = load_scene(path);
+      certify_one(std::string("restir-pt hybrid, symmetric-ratio spatial, asymmetric-ratio temporal ") + name, path, scene,
+                  ratio_pt(scene, "symmetric-ratio", "asymmetric-ratio", false), certification(restir::ReuseMis::pairwise, 180, 180, 32768));
+    }
+    const std::string cornell = shared_scene("cornell-box/scene-v4.pbrt");
+    Scene scene = load_scene(cornell);
+    certify_one("restir-pt hybrid, asymmetric-ratio spatial (paired), symmetric-ratio temporal cornell", cornell, scene,
+                ratio_pt(scene, "asymmetric-ratio", "symmetric-ratio", true), certification(restir::ReuseMis::pairwise, 100, 100, 16384));
+    const std::string lights = own_scene("many-lights.pbrt");
+    Scene many = load_scene(lights);
+    certify_one("restir-di, asymmetric-ratio spatial and temporal many-lights", lights, many,
+                ratio_di(many, "asymmetric-ratio", "asymmetric-ratio"), certification(restir::ReuseMis::pairwise, 200, 200, 32768));
+  }
+}
+
 TEST_SUITE("slow_planted_enhanced") {
+  TEST_CASE("asymmetric ratio weights with the symmetric formula's canonical weight are detected in at least 9 of 10 repeats") {
+    const std::string path = own_scene("stripes.pbrt");
+    Scene scene = load_scene(path);
+    PlantedBias planted;
+    planted.ratio_canonical_symmetric = true;
+    CHECK(planted_detections("asymmetric ratio, symmetric canonical weight", path, scene,
+                             ratio_pt(scene, "asymmetric-ratio", "asymmetric-ratio", false), planted, planted_certification()) >= 9);
+  }
+
   TEST_CASE("initial roulette with roulette left in the replayed densities is detected in at least 9 of 10 repeats") {
     const std::string path = shared_scene("cornell-box/scene-v4.pbrt");
     Scene scene = load_scene(path);

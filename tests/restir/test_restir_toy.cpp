@@ -174,15 +174,18 @@ const char* mis_name(ReuseMis m) {
     case ReuseMis::one_over_z: return "one_over_z";
     case ReuseMis::generalized_balance: return "generalized_balance";
     case ReuseMis::pairwise: return "pairwise";
+    case ReuseMis::symmetric_ratio: return "symmetric_ratio";
+    case ReuseMis::asymmetric_ratio: return "asymmetric_ratio";
   }
   return "?";
 }
 
-constexpr std::array<ReuseMis, 3> kUnbiasedModes{ReuseMis::one_over_z, ReuseMis::generalized_balance, ReuseMis::pairwise};
+constexpr std::array<ReuseMis, 5> kUnbiasedModes{ReuseMis::one_over_z, ReuseMis::generalized_balance, ReuseMis::pairwise,
+                                                  ReuseMis::symmetric_ratio, ReuseMis::asymmetric_ratio};
 
 // One spatial-reuse trial: a fresh reservoir per domain (K candidates; domain 1 optionally a
 // "temporal-like" input of 40 K candidates whose confidence is capped to 20 K), combined.
-R spatial_trial(const ToyBridge& bridge, ReuseMis mis, int K, bool unequal, Pcg32& rng, CombineInfo* info = nullptr) {
+R spatial_trial(const ToyBridge& bridge, MisWeights mis, int K, bool unequal, Pcg32& rng, CombineInfo* info = nullptr) {
   const int n = int(bridge.dom.size());
   std::array<R, 8> res;
   std::array<const R*, 8> ptr{};
@@ -252,7 +255,7 @@ TEST_CASE("restir_toy: streaming RIS from one source is unbiased, W is an unbias
 }
 
 // Invariant 1 + 2: reuse across domains with different targets and supports, identity and shifted.
-TEST_CASE("restir_toy: combine() is unbiased for 1/Z, generalized balance and pairwise MIS") {
+TEST_CASE("restir_toy: combine() is unbiased for 1/Z, generalized balance, pairwise and the ratio MIS weights") {
   constexpr int kTrials = 20000, K = 4;
   for (bool shifted : {false, true}) {
     const ToyBridge bridge{kDomains, shifted};
@@ -281,6 +284,69 @@ TEST_CASE("restir_toy: combine() is unbiased for 1/Z, generalized balance and pa
       }
     }
   }
+}
+
+// The pairwise family's weights (mis.h) sum to one over the techniques at every sample, for any
+// targets, confidences and ratio exponent -- the GRIS condition (Lin et al. 2022, eq. 19) -- and
+// vanish where a neighbour's target does: m_c(x) + Σ_j m_j(x) = 1 with p0 = p̂_0(x) > 0 and
+// pj = p̂_{←j}(x) >= 0, m_j computed as for neighbour j's own sample at x.
+TEST_CASE("restir_toy: the pairwise family's MIS weights sum to one at every sample, for any targets and confidences") {
+  Pcg32 rng(4242, 7);
+  double worst = 0;
+  int checked = 0;
+  bool zero_ok = true, nonnegative = true;
+  for (ReuseMis kind : {ReuseMis::pairwise, ReuseMis::symmetric_ratio, ReuseMis::asymmetric_ratio}) {
+    for (float beta : {0.5f, 1.0f, 2.0f, 5.0f}) {
+      const MisWeights w(kind, beta);
+      for (int t = 0; t < 5000; ++t) {
+        const int n = 2 + int(rng.next_float() * 6.0f);
+        float conf[8], pj[8];
+        float m_sum = 0;
+        for (int j = 0; j < n; ++j) {
+          conf[j] = t % 7 == 0 && j > 0 ? 0.0f : 1.0f + std::floor(rng.next_float() * 20.0f);
+          // Targets over four decades, and some zeros (a domain that cannot produce x).
+          pj[j] = rng.next_float() < 0.15f && j > 0 ? 0.0f : std::pow(10.0f, 4.0f * rng.next_float() - 2.0f);
+          m_sum += conf[j];
+        }
+        const float m_c = conf[0], m_rest = m_sum - m_c, p0 = pj[0];
+        double sum = detail::pair_canonical_base(w, m_c, m_sum, m_rest);
+        for (int j = 1; j < n; ++j) sum += detail::pair_canonical_term(w, conf[j], m_sum, m_c, m_rest, p0, pj[j]);
+        nonnegative = nonnegative && sum >= -1e-6;
+        for (int j = 1; j < n; ++j) {
+          const float mj = detail::pair_neighbor_weight(w, conf[j], m_sum, m_c, m_rest, p0, pj[j]);
+          nonnegative = nonnegative && mj >= 0;
+          if (pj[j] == 0 && mj != 0) zero_ok = false;
+          sum += mj;
+        }
+        worst = std::max(worst, std::fabs(sum - 1.0));
+        ++checked;
+      }
+    }
+  }
+  MESSAGE(checked << " weight sets, worst |Σ m - 1| = " << worst);
+  CHECK(worst < 1e-5);
+  CHECK(zero_ok);
+  CHECK(nonnegative);
+  // The planted mismatch (asymmetric neighbours, symmetric canonical) does not sum to one.
+  const MisWeights planted(ReuseMis::asymmetric_ratio, 2, true);
+  const float conf[3] = {4, 4, 4}, p[3] = {1.0f, 3.0f, 0.5f};
+  double sum = detail::pair_canonical_base(planted, 4, 12, 8);
+  for (int j = 1; j < 3; ++j) sum += detail::pair_canonical_term(planted, conf[j], 12, 4, 8, p[0], p[j]);
+  for (int j = 1; j < 3; ++j) sum += detail::pair_neighbor_weight(planted, conf[j], 12, 4, 8, p[0], p[j]);
+  CHECK(std::fabs(sum - 1.0) > 0.05);
+}
+
+// The harness above has the power to see a ratio weight that does not sum to one: asymmetric
+// ratio weights with the symmetric formula's canonical weight (PlantedBias::ratio_canonical_symmetric).
+TEST_CASE("restir_toy: asymmetric ratio weights with a mismatched canonical weight are biased, and the toy sees it") {
+  constexpr int kTrials = 20000, K = 4;
+  const ToyBridge bridge{kDomains, true};
+  Pcg32 rng(9090, 5);
+  Acc est;
+  for (int t = 0; t < kTrials; ++t) est.add(estimate(spatial_trial(bridge, MisWeights(ReuseMis::asymmetric_ratio, 2, true), K, false, rng), f));
+  const double z = std::fabs(est.mean() - kIntF) / est.se();
+  MESSAGE("planted mismatch: mean " << est.mean() << " vs " << kIntF << ", " << z << " se");
+  CHECK(z > 6);
 }
 
 // A bridge over the unshifted toy that counts its target evaluations and, with Vouch, tells
