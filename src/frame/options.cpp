@@ -237,6 +237,14 @@ void check_nee_candidates(const Options& o) {
                                 o.pt.nee_candidates));
 }
 
+// Replay compaction reorders the partners' shifts of paired reuse: without pairing there is no
+// such pass to reorder.
+void check_replay_compaction(const Options& o) {
+  if (o.integrator != "restir-pt" || !o.pt.replay_compaction || o.pt.reuse.spatial_pairing == SpatialPairing::paired) return;
+  throw OptionError("pt.replay_compaction = true: needs pt.spatial_pairing = paired (it schedules the partners' shifts of "
+                    "paired reuse; the spiral's shifts are made inside each pixel's resampling)");
+}
+
 void validate_options(const Options& o) {
   // 16384 x 16384 is allowed per axis, but not a 268-megapixel frame: 64 MPixel at most.
   if (int64_t(o.film.width) * o.film.height > int64_t(64) << 20)
@@ -252,6 +260,7 @@ void validate_options(const Options& o) {
   check_paired_reuse(o);
   check_rgb_weights(o);
   check_nee_candidates(o);
+  check_replay_compaction(o);
   if (is_explicit(o, "denoise.oidn_library") && o.denoise.method != DenoiseMethod::oidn)
     throw OptionError(fmt::format("denoise.oidn_library is read only by denoise.method = oidn (not {})", enum_name(o.denoise.method)));
   check_option_groups(o);

@@ -199,6 +199,7 @@ struct PtOptions {
   bool force_nee_reconnection = false;    // an NEE path with no earlier reconnection vertex reconnects at its light vertex (sec. 6.2.3)
   Roulette roulette = Roulette::replayed;
   int nee_candidates = 1;                 // light points resampled per NEE (sec. 6.1's RIS inside the path); 1 = one light sample
+  bool replay_compaction = false;         // paired reuse: shifts that replay a prefix in a pass of their own (sec. 6.2)
   int candidates = 1;
   DirectLighting direct = DirectLighting::path;
   HistoryScene history_scene = HistoryScene::previous;
@@ -350,6 +351,7 @@ void visit_options(O& o, V& v) {
   v("pt.force_nee_reconnection", o.pt.force_nee_reconnection, "hybrid: a path whose last vertex came from next-event estimation and that has no earlier reconnection vertex reconnects at its light vertex whatever the criterion says (ReSTIR PT Enhanced, sec. 6.2.3): a shift never replays light sampling; unbiased");
   v("pt.roulette", o.pt.roulette, "with path.russian_roulette: replayed (part of the primary sample space: every shift replays the decisions, survival = the vertex albedo) or initial (ReSTIR PT Enhanced, sec. 6.2.4: at initial sampling only, survival = max(throughput) as pt's, its probabilities in the initial sample's source density; shifts never terminate a path); both unbiased");
   v("pt.nee_candidates", o.pt.nee_candidates, "light points per next-event estimation, resampled by RIS toward the unshadowed contribution (ReSTIR PT Enhanced's NEE inside the path reservoir, sec. 6.1): one shadow ray for the chosen point, the path weighted by its RIS contribution weight; 1 = one light sample, as pt. Above 1 the light choice has no closed-form density, so no shift may replay it: needs pt.shift=reconnection, or hybrid with pt.force_nee_reconnection=true; unbiased", Range{1, 64});
+  v("pt.replay_compaction", o.pt.replay_compaction, "with pt.spatial_pairing=paired: the partners' shifts that must replay a path prefix (random replay; hybrid paths whose reconnection vertex is past x_2) are listed and made in a pass of their own, after the reconnection-only shifts (ReSTIR PT Enhanced's compaction, sec. 6.2: on a GPU the replays stop idling the threads of a warp that only reconnect). The same shifts and the same image; a schedule, not an estimator");
   v("pt.candidates", o.pt.candidates, "initial paths traced per pixel per frame", Range{1, 256});
   v("pt.direct", o.pt.direct, "direct lighting from the resampled paths themselves, or from ReSTIR DI (di.* options) as in the thesis' engine; the paths then start at two bounces");
   v("pt.history_scene", o.pt.history_scene, "animated scenes: temporal reuse shifts paths between frames by random replay, each frame's path traced in that frame's scene (unbiased; needs pt.shift=random-replay, and keeps a second BVH of the previous frame), or evaluates the history in this frame's scene with pt.shift (biased: a reconnected path keeps the previous frame's vertices and cached radiance)");

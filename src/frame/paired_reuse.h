@@ -72,32 +72,70 @@ struct PairedRound {
   }
 };
 
-// Pass 1 at pixel (x, y): its sample shifted into each accepted partner's domain, into
+// Whether the bridge's shift of `sample` replays part of a path (ReSTIR PT's random replay, or a
+// hybrid prefix): the shifts replay compaction defers. Bridges without such shifts have no
+// needs_replay and nothing is deferred.
+template <class Bridge, class Sample>
+RESTIR_HD bool shift_needs_replay(const Bridge& bridge, const Sample& sample) {
+  if constexpr (requires { bridge.needs_replay(sample); }) {
+    return bridge.needs_replay(sample);
+  } else {
+    (void)bridge, (void)sample;
+    return false;
+  }
+}
+
+// Slot t of pixel (x, y) in pass 1: its sample shifted into partner t's domain, into
 // shifts[p * k + t] (a pixel's k slots side by side: pass 2 reads its own in one cache line).
+// deferred (replay compaction, pt.replay_compaction): a shift that needs a replay is not made but
+// flagged in deferred[p * k + t], for paired_replay_stage; null: every shift is made here.
 template <class Res, class MakeBridge>
-RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
-                                  const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, const ReuseColor& color = {}) {
-  const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x);
+RESTIR_HD void paired_shift_slot(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
+                                 const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, int t, const ReuseColor& color,
+                                 uint8_t* deferred = nullptr) {
+  const size_t k = size_t(pr.pairing.count), p = size_t(y) * size_t(g.width) + size_t(x), slot = p * k + size_t(t);
   const GPacked& own = g.packed(x, y);
   const Res& r = reservoirs[p];
-  for (int t = 0; t < pr.pairing.count; ++t) {
-    PairedShift& out = shifts[p * k + size_t(t)];
-    out = PairedShift{};
-    int qx, qy;
-    if (!own.valid() || !r.has_sample() || !pr.accepted_partner(rp, g, t, x, y, qx, qy, false)) continue;
-    // The partner as the canonical domain (0) and this pixel as the source (1).
-    const GSurface partner = g.at(qx, qy);
-    const GPacked* packed[2] = {nullptr, &own};
-    auto bridge = make_bridge(SurfaceList{&partner, packed, g.materials, g.eye}, 2, false);
-    typename Res::SampleType shifted;
-    float jacobian = 1;
-    if (!bridge.shift_to_canonical(1, r.sample, shifted, jacobian)) continue;
-    out.target = bridge.target_from(0, shifted);
-    out.jacobian = jacobian > 0 ? jacobian : 0.0f;
-    if constexpr (requires { bridge.color(shifted); }) {
-      if (color.shifts) color.shifts[p * k + size_t(t)] = bridge.color(shifted);
-    }
+  PairedShift& out = shifts[slot];
+  out = PairedShift{};
+  if (deferred) deferred[slot] = 0;
+  int qx, qy;
+  if (!own.valid() || !r.has_sample() || !pr.accepted_partner(rp, g, t, x, y, qx, qy, false)) return;
+  // The partner as the canonical domain (0) and this pixel as the source (1).
+  const GSurface partner = g.at(qx, qy);
+  const GPacked* packed[2] = {nullptr, &own};
+  auto bridge = make_bridge(SurfaceList{&partner, packed, g.materials, g.eye}, 2, false);
+  if (deferred && shift_needs_replay(bridge, r.sample)) {
+    deferred[slot] = 1;
+    return;
   }
+  typename Res::SampleType shifted;
+  float jacobian = 1;
+  if (!bridge.shift_to_canonical(1, r.sample, shifted, jacobian)) return;
+  out.target = bridge.target_from(0, shifted);
+  out.jacobian = jacobian > 0 ? jacobian : 0.0f;
+  if constexpr (requires { bridge.color(shifted); }) {
+    if (color.shifts) color.shifts[slot] = bridge.color(shifted);
+  }
+}
+
+// Pass 1 at pixel (x, y): its sample shifted into each accepted partner's domain (paired_shift_slot).
+template <class Res, class MakeBridge>
+RESTIR_HD void paired_shift_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
+                                  const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, const ReuseColor& color = {},
+                                  uint8_t* deferred = nullptr) {
+  for (int t = 0; t < pr.pairing.count; ++t) paired_shift_slot(rp, g, reservoirs, shifts, make_bridge, pr, x, y, t, color, deferred);
+}
+
+// Replay compaction's second half of pass 1: the deferred slots (listed by Exec::select, in any
+// order) shifted as pass 1 would have; each writes only its own slot, so the result does not
+// depend on the list's order.
+template <class Res, class MakeBridge>
+RESTIR_HD void paired_replay_slot(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
+                                  const MakeBridge& make_bridge, const PairedRound& pr, uint32_t slot, const ReuseColor& color) {
+  const uint32_t k = uint32_t(pr.pairing.count), p = slot / k;
+  const int x = int(p % uint32_t(g.width)), y = int(p / uint32_t(g.width));
+  paired_shift_slot(rp, g, reservoirs, shifts, make_bridge, pr, x, y, int(slot % k), color);
 }
 
 // Pass 2's inputs at pixel p: 0 the pixel itself, then its accepted partners with the texture

@@ -56,7 +56,26 @@ struct PairedShiftStage {
   PairedShift* shifts;
   PairedRound round;
   ReuseColor color;
-  RESTIR_HD void operator()(int x, int y) const { paired_shift_pixel(rp, g, reservoirs, shifts, bridges, round, x, y, color); }
+  uint8_t* deferred;  // replay compaction: flags of the shifts left to PairedReplayStage (null: none)
+  RESTIR_HD void operator()(int x, int y) const { paired_shift_pixel(rp, g, reservoirs, shifts, bridges, round, x, y, color, deferred); }
+};
+
+// Replay compaction (pt.replay_compaction): the slots pass 1 deferred, listed, then shifted.
+struct DeferredSlot {
+  const uint8_t* deferred;
+  RESTIR_HD bool operator()(size_t i) const { return deferred[i] != 0; }
+};
+template <class Res, class Bridges>
+struct PairedReplayStage {
+  Bridges bridges;
+  ReuseOptions rp;
+  GBufferView g;
+  const Res* reservoirs;
+  PairedShift* shifts;
+  PairedRound round;
+  ReuseColor color;
+  const uint32_t* list;
+  RESTIR_HD void operator()(size_t i) const { paired_replay_slot(rp, g, reservoirs, shifts, bridges, round, list[i], color); }
 };
 
 // Pass 2: each pixel's reservoir combined with its partners' from the shifts of pass 1.
@@ -210,6 +229,8 @@ struct ReservoirChain {
   Array<PairingTransform> pairing_transforms;
   std::vector<PairingTransform> host_transforms;
   Array<PairedShift> paired_shifts;
+  Array<uint8_t> paired_deferred;  // replay compaction: the pass-1 slots whose shift replays
+  Array<uint32_t> replay_list;     // ... and their list (Exec::select)
   Array<float> boiling_means;  // the boiling filter's per-block mean W
   Array<uint64_t> duplicate_keys;
   Array<float> history_caps;  // the duplication map's M-caps of this frame's pixels, read by the next frame's temporal pass
@@ -251,7 +272,7 @@ struct ReservoirChain {
     return array_bytes(gbuffer) + array_bytes(previous_gbuffer) + array_bytes(emitted) + array_bytes(motion) + array_bytes(reservoirs) +
            array_bytes(previous) + array_bytes(scratch) + array_bytes(source) + array_bytes(tried) + array_bytes(rejected) +
            array_bytes(pairing_offsets) + array_bytes(pairing_first) + array_bytes(pairing_sizes) + array_bytes(pairing_transforms) +
-           array_bytes(paired_shifts) + array_bytes(boiling_means) + array_bytes(duplicate_keys) + array_bytes(history_caps) +
+           array_bytes(paired_shifts) + array_bytes(paired_deferred) + array_bytes(replay_list) + array_bytes(boiling_means) + array_bytes(duplicate_keys) + array_bytes(history_caps) +
            array_bytes(colors) + array_bytes(shift_colors);
   }
 
@@ -364,15 +385,28 @@ struct ReservoirChain {
     const PairingView view{Exec::mirror(pairing_offsets, pairing.offsets().data(), pairing.offsets().size()),
                            Exec::mirror(pairing_first, pairing.first().data(), pairing.first().size()),
                            Exec::mirror(pairing_sizes, pairing.sizes().data(), pairing.sizes().size()), k};
-    paired_shifts.reserve(size_t(k) * size_t(width) * size_t(height));
+    const size_t slots = size_t(k) * size_t(width) * size_t(height);
+    paired_shifts.reserve(slots);
+    // Replay compaction: bridges whose shifts may replay say whether the frame asked for it.
+    bool compact = false;
+    if constexpr (requires { bridges.compact_replays(); }) compact = bridges.compact_replays();
+    if (compact) paired_deferred.reserve(slots);
     for (int round = 0; round < rp.spatial_rounds; ++round) {
       host_transforms.resize(size_t(k));
       for (int t = 0; t < k; ++t) host_transforms[size_t(t)] = PairingView::transform(t, pairing.sizes()[size_t(t)], f.frame, f.seed, f.chain, round);
       const PairingTransform* transforms = Exec::mirror(pairing_transforms, host_transforms.data(), host_transforms.size());
       const PairedRound pr{view, transforms, f, round, planted && planted->pairing_one_sided, planted && planted->pairing_broken};
       Exec::for_pixels(width, height,
-                       PairedShiftStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr, color},
+                       PairedShiftStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr, color,
+                                                      compact ? paired_deferred.data : nullptr},
                        "paired reuse: shifts");
+      if (compact) {
+        const uint32_t replays = Exec::select(slots, DeferredSlot{paired_deferred.data}, replay_list, "paired reuse: replay list");
+        Exec::for_each(replays,
+                       PairedReplayStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, pr, color,
+                                                       replay_list.data},
+                       "paired reuse: replayed shifts");
+      }
       Exec::for_pixels(width, height,
                        PairedResampleStage<Res, Bridges>{bridges, rp, this->view(), reservoirs.data, paired_shifts.data, scratch.data, pr,
                                                          debug(), color},

@@ -325,6 +325,22 @@ TEST_CASE("restir-pt: resampled NEE from light tiles on the CPU and CUDA agree (
   }
 }
 
+// Replay compaction (pt.replay_compaction): paired reuse's replaying shifts listed by the device's
+// Exec::select (in the schedule's order) and made in a kernel of their own; each writes its own
+// slot, so the frames agree with the CPU's as without compaction (hybrid on the teapots: prefixes
+// and reconnections; random replay on env-object: every shift deferred).
+TEST_CASE("restir-pt: replay compaction of paired reuse on the CPU and CUDA agree (16 seeds stacked)") {
+  for (const char* shift : {"pt.shift=hybrid", "pt.shift=random-replay"}) {
+    const std::string scene_name = std::string(shift) == "pt.shift=hybrid" ? "teapot.pbrt" : "env-object.pbrt";
+    CAPTURE(scene_name);
+    Scene scene = load_scene(own_scene(scene_name));
+    const Options o = options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                          "path.max_depth=5", "path.russian_roulette=false", "pt.spatial_pairing=paired",
+                                          "pt.replay_compaction=true", shift});
+    check_agree(frames_stacked(scene, o, g_seeds, Backend::cpu), frames_stacked(scene, o, g_seeds, gpu_backend()));
+  }
+}
+
 // Animated scenes (one frame written once for every backend): each ReSTIR integrator's temporal
 // reuse judges an animated history in the previous frame's scene, BVH and lights, on the device as
 // on the CPU. 5 frames: the dynamic room's light switches and its occluder moves within them;

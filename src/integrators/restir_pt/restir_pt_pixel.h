@@ -84,6 +84,17 @@ struct PtBridge {
   }
   // F(x), RGB, of a path already in the canonical domain (RGB resampling weights, mis.h).
   RESTIR_HD Rgb color(const PathSample& x) const { return x.contribution; }
+  // Whether shifting y replays part of its path (traces from the offset primary hit before any
+  // reconnection): random replay always; the hybrid shift unless y reconnects at x_2, right after
+  // the primary hit; the reconnection shift never. Replay compaction (paired_reuse.h) defers these.
+  RESTIR_HD bool needs_replay(const PathSample& y) const {
+    switch (b->ps.pt.shift) {
+      case ShiftMapping::reconnection: return false;
+      case ShiftMapping::random_replay: return true;
+      case ShiftMapping::hybrid: return y.rc != 2;
+    }
+    return true;
+  }
   RESTIR_HD float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
     PathSample y;
@@ -103,6 +114,8 @@ struct PtBridges {
   bool history_in_previous;  // pt.history_scene = previous
   PlantedBias planted;       // tests only (planted_bias.h), when planted_on
   bool planted_on;
+  // pt.replay_compaction: paired reuse makes the shifts that replay in a pass of their own.
+  bool compact_replays() const { return ps.pt.replay_compaction; }
   RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const {
     // pt.history_scene = current evaluates the history in this frame's scene even where the
     // previous one is kept (for pt.direct = restir-di's ReSTIR DI).
