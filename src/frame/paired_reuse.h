@@ -88,7 +88,7 @@ RESTIR_HD bool shift_needs_replay(const Bridge& bridge, const Sample& sample) {
 // Slot t of pixel (x, y) in pass 1: its sample shifted into partner t's domain, into
 // shifts[p * k + t] (a pixel's k slots side by side: pass 2 reads its own in one cache line).
 // deferred (replay compaction, pt.replay_compaction): a shift that needs a replay is not made but
-// flagged in deferred[p * k + t], for paired_replay_stage; null: every shift is made here.
+// flagged in deferred[p * k + t], for paired_replay_slot; null: every shift is made here.
 template <class Res, class MakeBridge>
 RESTIR_HD void paired_shift_slot(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, PairedShift* shifts,
                                  const MakeBridge& make_bridge, const PairedRound& pr, int x, int y, int t, const ReuseColor& color,

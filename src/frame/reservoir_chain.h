@@ -272,8 +272,8 @@ struct ReservoirChain {
     return array_bytes(gbuffer) + array_bytes(previous_gbuffer) + array_bytes(emitted) + array_bytes(motion) + array_bytes(reservoirs) +
            array_bytes(previous) + array_bytes(scratch) + array_bytes(source) + array_bytes(tried) + array_bytes(rejected) +
            array_bytes(pairing_offsets) + array_bytes(pairing_first) + array_bytes(pairing_sizes) + array_bytes(pairing_transforms) +
-           array_bytes(paired_shifts) + array_bytes(paired_deferred) + array_bytes(replay_list) + array_bytes(boiling_means) + array_bytes(duplicate_keys) + array_bytes(history_caps) +
-           array_bytes(colors) + array_bytes(shift_colors);
+           array_bytes(paired_shifts) + array_bytes(paired_deferred) + array_bytes(replay_list) + array_bytes(boiling_means) +
+           array_bytes(duplicate_keys) + array_bytes(history_caps) + array_bytes(colors) + array_bytes(shift_colors);
   }
 
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
