@@ -255,6 +255,26 @@ TEST_CASE("restir-di: CPU and CUDA renders agree (16 seeds stacked, 4 spp, 3 fra
   }
 }
 
+// The ratio MIS weights of Pan et al. 2024 (restir/mis.h) in the device's combine() and paired
+// resampling: asymmetric spatial (paired) and symmetric temporal, on the Cornell box's full rule.
+TEST_CASE("restir-di and restir-pt: the ratio MIS weights on the CPU and CUDA agree (16 seeds stacked)") {
+  const std::string path = shared_scene("cornell-box/scene-v4.pbrt");
+  Scene scene = load_scene(path);
+  for (const char* integrator : {"di", "pt"}) {
+    const std::string p = integrator;
+    CAPTURE(p);
+    Options o = options_for(scene, {"film.width=128", "film.height=96", "render.spp=4", "render.frames=3", "path.max_depth=3",
+                                    "path.russian_roulette=false"});
+    set_option(o, "integrator", "restir-" + p);
+    set_option(o, p + ".spatial_mis", "asymmetric-ratio");
+    set_option(o, p + ".spatial_pairing", "paired");
+    set_option(o, p + ".temporal_mis", "symmetric-ratio");
+    o = only_read_keys(o);  // restir-di reads no path.* key
+    check_agree(frames_stacked(scene, o, g_seeds, Backend::cpu), frames_stacked(scene, o, g_seeds, gpu_backend()),
+                blocks_comparable(path));
+  }
+}
+
 TEST_CASE("restir-di: render.backend = cuda through the renderer, textures and every kind of light, a debug view") {
   Scene scene = load_scene(feature_scene());
   Options o = options_for(scene, {"integrator=restir-di", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3"});
