@@ -76,6 +76,17 @@ run_checks() {
           --png "${TMPDIR:-/tmp}/gpu-$integrator.png" -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
         cat "${TMPDIR:-/tmp}/stages-$integrator.csv" >>"$results" 2>/dev/null || true
       done
+      # Replay compaction (pt.replay_compaction, issues 45 and 48): paired reuse's spatial pass with
+      # the replaying shifts in a kernel of their own, and without, on the teapots at 1920x1080.
+      local compact
+      for compact in false true; do
+        echo "== stage times: restir-pt, teapot.pbrt, cuda, 1920x1080, 6 frames, paired, pt.replay_compaction=$compact" | tee -a "$results"
+        timeout 60 "${runner[@]}" "$bin/restir" render "$SCENES_OWN/scenes/teapot.pbrt" --integrator restir-pt --spp 1 --frames 6 \
+          --set render.backend=cuda --set film.width=1920 --set film.height=1080 --set pt.spatial_pairing=paired \
+          --set pt.replay_compaction="$compact" --timings "${TMPDIR:-/tmp}/stages-compact-$compact.csv" -o "${TMPDIR:-/tmp}/gpu-compact.exr" \
+          -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
+        cat "${TMPDIR:-/tmp}/stages-compact-$compact.csv" >>"$results" 2>/dev/null || true
+      done
     fi
     [ -x "$bin/restir" ] && [ "${GPU_CHECK_STUDIES:-1}" != 0 ] && run_gpu_studies "$results" "$bin" "${runner[@]}"
   fi
