@@ -194,7 +194,8 @@ Shape "trianglemesh" "point3 P" [ -0.6 0 -0.6 0.6 0 -0.6 0.6 1.2 -0.6 -0.6 1.2 -
     // GI's cached radiance is exact on diffuse sample points only (restir_gi.cpp): the shared Cornell box.
     const std::string path = shared_scene("cornell-box/scene-v4.pbrt");
     Scene scene = load_scene(path);
-    for (const char* mis : {"pairwise", "generalized-balance"}) {
+    // The ratio weights of Pan et al. 2024 too (restir/mis.h), spatial and temporal.
+    for (const char* mis : {"pairwise", "generalized-balance", "symmetric-ratio", "asymmetric-ratio"}) {
       Options o = options_for(scene, {"integrator=restir-gi", "render.spp=1", "render.frames=8", "render.sample_pattern=center",
                                       "film.width=16", "film.height=16", "path.max_depth=3", "gi.spatial_neighbors=6",
                                       "gi.spatial_radius=4"});
