@@ -86,6 +86,7 @@ TEST_SUITE("backends") {
             {"env-object.pbrt", {"di.light_tiles=0", "di.visibility_reuse=false", "di.light_candidates=8"}},  // no tiles; shadow rays in the weights
             {"mirror-glass.pbrt", {"di.temporal_mis=pairwise"}},                     // delta BSDFs (di_specular)
             {"many-lights.pbrt", {"di.spatial_rounds=2", "render.debug_view=reuse-source"}},  // two rounds, a debug view
+            {"many-lights.pbrt", {"render.spp=2", "di.spatial_mis=symmetric-ratio", "di.temporal_mis=asymmetric-ratio"}},  // Pan et al. 2024's weights
         });
   }
 
@@ -108,6 +109,7 @@ TEST_SUITE("backends") {
             {"mirror-glass.pbrt", {"pt.direct=restir-di", "path.max_depth=2"}},  // delta vertices; ReSTIR DI adds direct light
             {"teapot.pbrt", {"render.debug_view=reconnection-depth"}},           // a debug view (and its histogram)
             {"teapot.pbrt", {"pt.force_nee_reconnection=true", "pt.nee_candidates=4"}},  // resampled NEE from light tiles
+            {"teapot.pbrt", {"pt.spatial_pairing=paired", "pt.replay_compaction=true", "pt.spatial_mis=asymmetric-ratio"}},  // compaction, ratio weights
         });
   }
 
