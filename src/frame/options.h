@@ -30,6 +30,10 @@ enum class ShiftMapping { reconnection, random_replay, hybrid };
 // The hybrid shift's reconnection criterion: 2022's (both vertices rough, the segment long enough;
 // GRIS §7.2) or ReSTIR PT Enhanced's dual ray footprint (Lin, Kettunen, Wyman 2026, sec. 4, eq. 5).
 enum class Reconnection { roughness_distance, footprint };
+// What "rough" means in the hybrid shift's criteria: the BSDF's roughness parameter, or, for a
+// material known only by its sampling density (a black box), 1/p(ω)² of the direction the path
+// leaves the vertex by (ReSTIR PT Enhanced, Lin, Kettunen, Wyman 2026, supplement §4, eq. 26).
+enum class RoughnessProxy { material, pdf };
 // ReSTIR PT's Russian roulette: part of the primary sample space, replayed by every shift
 // (survival = the vertex's albedo, which a reconnection keeps), or at initial sampling only, its
 // survival probabilities in the initial sample's source density and the shifts deterministic
@@ -102,6 +106,9 @@ template <> struct EnumNames<ShiftMapping> {
 template <> struct EnumNames<Reconnection> {
   static constexpr std::array<std::pair<Reconnection, const char*>, 2> values{
       {{Reconnection::roughness_distance, "roughness-distance"}, {Reconnection::footprint, "footprint"}}};
+};
+template <> struct EnumNames<RoughnessProxy> {
+  static constexpr std::array<std::pair<RoughnessProxy, const char*>, 2> values{{{RoughnessProxy::material, "material"}, {RoughnessProxy::pdf, "pdf"}}};
 };
 template <> struct EnumNames<Roulette> {
   static constexpr std::array<std::pair<Roulette, const char*>, 2> values{{{Roulette::replayed, "replayed"}, {Roulette::initial, "initial"}}};
@@ -196,6 +203,7 @@ struct PtOptions {
   Reconnection reconnection = Reconnection::roughness_distance;
   float footprint_threshold = 0.02f;      // the paper's c (eq. 5: footprints >= c/100 x the primary footprint)
   float footprint_min_roughness = 0.2f;   // alpha_min at x_{k-1} (sec. 4.2), GGX roughness as roughness_threshold
+  RoughnessProxy roughness_proxy = RoughnessProxy::material;  // what the roughness thresholds compare (supplement §4)
   bool force_nee_reconnection = false;    // an NEE path with no earlier reconnection vertex reconnects at its light vertex (sec. 6.2.3)
   Roulette roulette = Roulette::replayed;
   int nee_candidates = 1;                 // light points resampled per NEE (sec. 6.1's RIS inside the path); 1 = one light sample
@@ -348,6 +356,7 @@ void visit_options(O& o, V& v) {
   v("pt.reconnection", o.pt.reconnection, "hybrid: reconnection criterion: both vertices rough and the segment long enough (2022), or the dual ray footprint of ReSTIR PT Enhanced (sec. 4): the segment's forward and inverse ray footprints both >= pt.footprint_threshold/100 x the primary hit's footprint, and x_{k-1} rough");
   v("pt.footprint_threshold", o.pt.footprint_threshold, "hybrid, pt.reconnection=footprint: the paper's c (default 0.02): a vertex pair reconnects when both ray footprints are >= c/100 x the primary footprint |x1-x0|^2 4pi / |cos|", Range{0, 1e9});
   v("pt.footprint_min_roughness", o.pt.footprint_min_roughness, "hybrid, pt.reconnection=footprint: minimum GGX roughness of x_{k-1} (the paper's single-vertex alpha_min, sec. 4.2)", Range{0, 1});
+  v("pt.roughness_proxy", o.pt.roughness_proxy, "hybrid: what pt.roughness_threshold and pt.footprint_min_roughness compare: the BSDF's roughness parameter (material), or 1/p^2 of the sampled direction's solid-angle density at the vertex (pdf: ReSTIR PT Enhanced supplement sec. 4, for black-box materials; a GGX lobe's peak gives 16 pi^2 alpha^4, so 0.2 ~ alpha 0.19), tested on the offset path too; unbiased");
   v("pt.force_nee_reconnection", o.pt.force_nee_reconnection, "hybrid: a path whose last vertex came from next-event estimation and that has no earlier reconnection vertex reconnects at its light vertex whatever the criterion says (ReSTIR PT Enhanced, sec. 6.2.3): a shift never replays light sampling; unbiased");
   v("pt.roulette", o.pt.roulette, "with path.russian_roulette: replayed (part of the primary sample space: every shift replays the decisions, survival = the vertex albedo) or initial (ReSTIR PT Enhanced, sec. 6.2.4: at initial sampling only, survival = max(throughput) as pt's, its probabilities in the initial sample's source density; shifts never terminate a path); both unbiased");
   v("pt.nee_candidates", o.pt.nee_candidates, "light points per next-event estimation, resampled by RIS toward the unshadowed contribution (ReSTIR PT Enhanced's NEE inside the path reservoir, sec. 6.1): one shadow ray for the chosen point, the path weighted by its RIS contribution weight; 1 = one light sample, as pt. Above 1 the light choice has no closed-form density, so no shift may replay it: needs pt.shift=reconnection, or hybrid with pt.force_nee_reconnection=true; unbiased", Range{1, 64});

@@ -15,9 +15,10 @@ struct PlantedBias {
   float own_target_scale = 1;
   // Removes the hybrid shift's invertibility check (pt_path.cpp), the bias of the first review.
   bool skip_hybrid_check = false;
-  // pt.reconnection = footprint: the footprint criterion is tested on the base path only (its walk
-  // chooses x_k by it) and never re-tested on the offset path (replayed pairs, y_{k-1} -> x_k).
-  bool footprint_one_sided = false;
+  // pt.reconnection = footprint or pt.roughness_proxy = pdf: the criterion is tested on the base
+  // path only (its walk chooses x_k by it) and never re-tested on the offset path (replayed pairs,
+  // y_{k-1} -> x_k).
+  bool criterion_one_sided = false;
   // ReSTIR DI in an animated scene: tests the history's visibility in this frame's BVH instead of
   // the previous frame's (the approximation before issue 11's fix; -5 to -17% behind a fast occluder).
   bool history_visibility_now = false;

@@ -65,7 +65,7 @@ TEST_SUITE("slow_planted_footprint") {
     Scene scene = load_scene(path);
     const Options o = strict_footprint_pt(scene);
     PlantedBias one_sided;
-    one_sided.footprint_one_sided = true;
+    one_sided.criterion_one_sided = true;
     CHECK(planted_detections("one-sided footprint test", path, scene, o, one_sided, planted_certification()) >= 9);
   }
 }

@@ -108,19 +108,44 @@ RESTIR_HD inline float pdf_toward(const PathSettings& ps, const Vertex& v, Vec3 
   return direction_pdf(v.bsdf, ps.path.bsdf_sampling, v.frame.to_local(v.wo), v.frame.to_local(dir));
 }
 RESTIR_HD inline bool footprint_mode(const PathSettings& ps) { return ps.pt.reconnection == Reconnection::footprint; }
-// Whether pair_completes tests anything (else an open pair is reconnectable as soon as b's event is
-// not a delta).
-RESTIR_HD inline bool inverse_tested(const PathSettings& ps, const Vertex& b) {
-  return footprint_mode(ps) && b.bsdf.type != Material::Type::diffuse;
+RESTIR_HD inline bool pdf_proxy(const PathSettings& ps) { return ps.pt.roughness_proxy == RoughnessProxy::pdf; }
+// Whether the criterion at a vertex depends on the direction the path reaches it from, so that the
+// offset path, which reaches x_k from y_{k-1}, must test it again (shift_hybrid.h): the inverse
+// footprint, and the pdf proxy's roughness of x_k.
+RESTIR_HD inline bool criterion_depends_on_direction(const PathSettings& ps) { return footprint_mode(ps) || pdf_proxy(ps); }
+// Whether v counts as rough (>= threshold) for a pair that leaves it toward dir (v.wo the incoming
+// direction): never for a delta BSDF; else its roughness parameter (rough()), or under
+// pt.roughness_proxy = pdf the black-box proxy of ReSTIR PT Enhanced's supplement (§4, eq. 26),
+//     1 / p_v(ω)² >= α_min,
+// p_v the solid-angle density of direction sampling at v (pdf_toward: the marginal over lobes, as
+// the footprints use, supplement §3). A GGX lobe's peak density 1/(4π α²) gives 16π² α⁴: 0.2 is met
+// from α ≈ 0.19, the roughness the material threshold asks. A diffuse lobe (p <= 1/π) is always
+// rough (π² > 1, the thresholds' upper bound). Compared as p² α_min <= 1 (p = 0: no density, rough).
+RESTIR_HD inline bool rough_toward(const PathSettings& ps, const Vertex& v, Vec3 dir, float threshold) {
+  if (!pdf_proxy(ps)) return rough(v, threshold);
+  if (v.delta) return false;
+  const float p = pdf_toward(ps, v, dir);
+  return p * p * threshold <= 1;
 }
+// Whether pair_completes tests anything (else an open pair is reconnectable as soon as b's event is
+// not a delta): the inverse footprint, or the pdf proxy at x_k under roughness-distance; neither
+// for a diffuse x_k, which passes both.
+RESTIR_HD inline bool inverse_tested(const PathSettings& ps, const Vertex& b) {
+  return criterion_depends_on_direction(ps) && b.bsdf.type != Material::Type::diffuse;
+}
+// Under roughness-distance with the pdf proxy, x_k's roughness needs its outgoing direction: it is
+// pair_completes' test.
 RESTIR_HD inline bool pair_opens(const PathSettings& ps, const Vertex& a, const Vertex& b, Vec3 dir, float distance, float thr) {
   if (!footprint_mode(ps))
-    return rough(a, ps.pt.roughness_threshold) && rough(b, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
-  return rough(a, ps.pt.footprint_min_roughness) && footprint_at_least(distance, pdf_toward(ps, a, dir), std::fabs(dot(b.ng, dir)), thr);
+    return rough_toward(ps, a, dir, ps.pt.roughness_threshold) && (pdf_proxy(ps) || rough(b, ps.pt.roughness_threshold)) &&
+           distance >= ps.pt.distance_threshold;
+  return rough_toward(ps, a, dir, ps.pt.footprint_min_roughness) &&
+         footprint_at_least(distance, pdf_toward(ps, a, dir), std::fabs(dot(b.ng, dir)), thr);
 }
 // b.wo must be -dir (the incoming direction at x_k from x_{k-1}).
 RESTIR_HD inline bool pair_completes(const PathSettings& ps, const Vertex& b, Vec3 a_ng, Vec3 dir, float distance, Vec3 b_out, float thr) {
   if (!inverse_tested(ps, b)) return true;
+  if (!footprint_mode(ps)) return rough_toward(ps, b, b_out, ps.pt.roughness_threshold);
   return footprint_at_least(distance, pdf_toward(ps, b, b_out), std::fabs(dot(a_ng, dir)), thr);
 }
 // The same for an emitter vertex after v (normal: its geometric normal, zero for delta lights),
@@ -134,8 +159,8 @@ RESTIR_HD inline bool pair_completes(const PathSettings& ps, const Vertex& b, Ve
 RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex& v, bool is_direction, Vec3 normal, Vec3 dir,
                                             float distance, float thr, bool nee) {
   if (nee && ps.pt.force_nee_reconnection) return true;
-  if (!footprint_mode(ps)) return rough(v, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
-  return rough(v, ps.pt.footprint_min_roughness) &&
+  if (!footprint_mode(ps)) return rough_toward(ps, v, dir, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
+  return rough_toward(ps, v, dir, ps.pt.footprint_min_roughness) &&
          (is_direction || footprint_at_least(distance, pdf_toward(ps, v, dir), std::fabs(dot(normal, dir)), thr));
 }
 

@@ -82,9 +82,10 @@ struct PathSettings {
   // Tests only: false removes the hybrid shift's invertibility check, a planted bias that the
   // convergence harness must detect (tests/integrators/test_planted_bias.cpp). Never false in a render.
   bool check_invertibility = true;
-  // Tests only: false tests the footprint criterion (pt.reconnection = footprint) on the base path
-  // only, never on the offset path (PlantedBias::footprint_one_sided). Never false in a render.
-  bool retest_footprint = true;
+  // Tests only: false tests a criterion that depends on the direction into x_k (pt.reconnection =
+  // footprint, pt.roughness_proxy = pdf) on the base path only, never on the offset path
+  // (PlantedBias::criterion_one_sided). Never false in a render.
+  bool retest_on_offset = true;
   // Tests only: false applies pt.force_nee_reconnection in the walks (the base path's choice of x_k)
   // but not in the shifts' criterion on the offset path (PlantedBias::forced_nee_one_sided).
   bool retest_forced_nee = true;

@@ -69,7 +69,7 @@ class RestirPtFrame final : public ReservoirFrame<B, RestirPtChain<B>> {
   RestirPtFrame(const RenderContext& ctx, std::unique_ptr<Integrator> direct)
       : Base(ctx), settings_(path_settings(ctx.options)), direct_(std::move(direct)) {
     if (ctx.planted && ctx.planted->skip_hybrid_check) settings_.check_invertibility = false;
-    if (ctx.planted && ctx.planted->footprint_one_sided) settings_.retest_footprint = false;
+    if (ctx.planted && ctx.planted->criterion_one_sided) settings_.retest_on_offset = false;
     if (ctx.planted && ctx.planted->forced_nee_one_sided) settings_.retest_forced_nee = false;
     if (ctx.planted && ctx.planted->roulette_in_replay) settings_.roulette_in_replay = true;
     if (ctx.planted && ctx.planted->nee_source_density) settings_.nee_source_density = true;

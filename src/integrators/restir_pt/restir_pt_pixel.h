@@ -69,7 +69,7 @@ struct PtBridge {
   // Without the check, or under a planted bias of the tests (which acts in target_from), the
   // target is evaluated.
   RESTIR_HD bool stored_target_valid(int i) const {
-    return i > 0 && b->ps.check_invertibility && b->ps.retest_footprint && b->ps.retest_forced_nee && !b->planted_on && !(i == 1 && history_in_other_scene);
+    return i > 0 && b->ps.check_invertibility && b->ps.retest_on_offset && b->ps.retest_forced_nee && !b->planted_on && !(i == 1 && history_in_other_scene);
   }
   RESTIR_HD bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;

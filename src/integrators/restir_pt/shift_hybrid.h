@@ -19,9 +19,9 @@ RESTIR_HD bool shift_hybrid(const PathWorld& world, const Tracer& tracer, const 
   const int k = base.rc;
   ShiftPrefix pre{vertex_from_surface(y1)};
   pre.footprint = footprint_threshold(ps, y1);  // the offset path's own primary footprint
-  // A planted bias of the tests (PathSettings::retest_footprint) tests the footprint criterion on the
-  // base path only.
-  const bool retest = !footprint_mode(ps) || ps.retest_footprint;
+  // A planted bias of the tests (PathSettings::retest_on_offset) tests a direction-dependent
+  // criterion (the footprints, the pdf proxy) on the base path only.
+  const bool retest = !criterion_depends_on_direction(ps) || ps.retest_on_offset;
   const bool check = ps.check_invertibility && retest;
   const int last = k > 0 ? k - 1 : base.length - 1;  // the vertex that connects to x_k / samples the last vertex
   if (!replay_prefix(world, tracer, ps, base, last, check, pre)) return false;

@@ -92,7 +92,8 @@ RESTIR_HD inline bool offset_reconnectable(const PathWorld& world, const PathSet
   }
   if (pending_completes(ps, pre, dir)) return false;
   if (at_emitter) return emitter_reconnectable(ps, v, is_dir, base.rc_normal, dir, distance, pre.footprint, base.nee && ps.retest_forced_nee);
-  if (!footprint_mode(ps)) return rough(v, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
+  // x_k's part of the criterion is its material's alone (roughness-distance): what x̄ passed.
+  if (!criterion_depends_on_direction(ps)) return rough(v, ps.pt.roughness_threshold) && distance >= ps.pt.distance_threshold;
   Vertex xk;  // x_k as the offset path reaches it
   xk.p = base.rc_position;
   xk.ng = base.rc_normal;

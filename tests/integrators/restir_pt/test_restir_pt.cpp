@@ -43,12 +43,13 @@ void set_footprint(PathSettings& ps, float footprint_c) {
 }
 
 // Shifts paths between random pixel pairs and back; returns how many round trips were checked.
-int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth, float footprint_c = 0) {
+int check_round_trips(Fixture& fx, ShiftMapping shift, int max_depth, float footprint_c = 0, void (*tweak)(PathSettings&) = nullptr) {
   PathSettings ps;
   ps.path.russian_roulette = false;  // the walks' own default before PathSettings was made of the options
   ps.pt.shift = shift;
   ps.path.max_depth = max_depth;
   set_footprint(ps, footprint_c);
+  if (tweak) tweak(ps);
   Pcg32 rng(42);
   int checked = 0, identity = 0;
   for (int it = 0; it < 3000 && checked < 200; ++it) {
@@ -270,6 +271,25 @@ TEST_SUITE("restir_pt") {
         CHECK(check_round_trips(fx, ShiftMapping::hybrid, 3, c) > 20);
         int checked = 0;
         const float worst = stored_target_error(fx, ShiftMapping::hybrid, 4, checked, c);
+        CHECK(checked > 50);
+        CHECK(worst < 2e-5f);
+      }
+    }
+  }
+
+  // pt.roughness_proxy = pdf (Lin et al. 2026, supplement §4): x_k's roughness depends on the
+  // direction it is reached from, so the offset path tests it again; under both criteria.
+  TEST_CASE("pdf roughness proxy: the hybrid shift is the identity on its own pixel and invertible (Cornell box, Veach MIS, teapots)") {
+    for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), shared_scene("veach-mis/scene-v4.pbrt"),
+                                    own_scene("teapot.pbrt")}) {
+      Fixture fx(path);
+      for (float c : {0.0f, 0.02f}) {
+        CAPTURE(path);
+        CAPTURE(c);
+        auto pdf = [](PathSettings& ps) { ps.pt.roughness_proxy = RoughnessProxy::pdf; };
+        CHECK(check_round_trips(fx, ShiftMapping::hybrid, 3, c, pdf) > 20);
+        int checked = 0;
+        const float worst = stored_target_error(fx, ShiftMapping::hybrid, 4, checked, c, pdf);
         CHECK(checked > 50);
         CHECK(worst < 2e-5f);
       }
