@@ -345,6 +345,19 @@ TEST_CASE("restir-pt: resampled NEE from light tiles on the CPU and CUDA agree (
   }
 }
 
+// The pdf roughness proxy (pt.roughness_proxy = pdf, supplement §4): the walks' and the shifts'
+// criteria read the sampling density on the device as on the CPU (glossy teapot-table, both
+// criteria).
+TEST_CASE("restir-pt: the pdf roughness proxy on the CPU and CUDA agree (16 seeds stacked)") {
+  for (const char* criterion : {"pt.reconnection=roughness-distance", "pt.reconnection=footprint"}) {
+    CAPTURE(criterion);
+    Scene scene = load_scene(own_scene("teapot-table.pbrt"));
+    const Options o = options_for(scene, {"integrator=restir-pt", "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                          "path.max_depth=5", "path.russian_roulette=false", "pt.roughness_proxy=pdf", criterion});
+    check_agree(frames_stacked(scene, o, g_seeds, Backend::cpu), frames_stacked(scene, o, g_seeds, gpu_backend()));
+  }
+}
+
 // Replay compaction (pt.replay_compaction): paired reuse's replaying shifts listed by the device's
 // Exec::select (in the schedule's order) and made in a kernel of their own; each writes its own
 // slot, so the frames agree with the CPU's as without compaction (hybrid on the teapots: prefixes
