@@ -2,6 +2,7 @@
 // to evaluate target functions at a pixel, to reproject into the previous frame and to judge
 // whether two pixels are similar enough to share samples.
 #pragma once
+#include <new>
 #include <vector>
 
 #include "core/unit_vector.h"
@@ -164,6 +165,7 @@ struct GBuffer {
 // of one surface -- a pass keeps no array of unpacked neighbours (a GPU thread's state stays the
 // packed pointers and one surface), and a bridge that reads one domain several times in a row
 // unpacks it once.
+static_assert(std::is_trivially_destructible_v<GSurface>);
 struct SurfaceList {
   SurfaceList() = default;
   RESTIR_HD SurfaceList(const GSurface* canonical_, const GPacked* const* packed_, const MaterialParams* materials_, Vec3 eye_)
@@ -176,11 +178,23 @@ struct SurfaceList {
   // read one domain at a time (every bridge passes it straight to the function that uses it).
   RESTIR_HD const GSurface& operator[](int i) const {
     if (i == 0) return *canonical;
-    if (i != cached) cache = unpack_surface(*packed[i], materials, eye), cached = i;
-    return cache;
+    if (i != cached) {
+      // Made in place (GSurface is trivially destructible): an assignment built the 160-byte
+      // surface on the stack and copied it, and the copy's wide loads of the narrow stores just
+      // made stalled -- over half of target_from's time in ReSTIR PT's spatial pass (perf).
+      new (&cache.s) GSurface(unpack_surface(*packed[i], materials, eye));
+      cached = i;
+    }
+    return cache.s;
   }
   RESTIR_HD Vec3 point(int i) const { return i == 0 ? canonical->p : packed[i]->p; }
-  mutable GSurface cache;  // packed[cached] unpacked
+  // packed[cached] unpacked; left unwritten until then (a bridge is made per pixel and resampling,
+  // and most read no neighbour twice: default-initializing 160 bytes each time showed in perf).
+  union Cache {
+    GSurface s;
+    RESTIR_HD Cache() {}
+  };
+  mutable Cache cache;
   mutable int cached = -1;
 };
 
