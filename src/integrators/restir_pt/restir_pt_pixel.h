@@ -97,10 +97,15 @@ struct PtBridge {
   }
   RESTIR_HD float target_from(int i, const PathSample& x) const {
     if (i == 0) return luminance(x.contribution);  // x already lives in the canonical domain
-    PathSample y;
+    // Every shift writes its output whole (out = base) before anything reads it, and it is read
+    // only where the shift succeeded: left unwritten until then (zeroing it per call showed in perf).
+    union Shifted {
+      PathSample y;
+      RESTIR_HD Shifted() {}
+    } shifted;
     float jacobian;
-    if (!shift_in(i, x, surfaces[i], y, jacobian)) return 0;
-    float t = luminance(y.contribution) * jacobian;
+    if (!shift_in(i, x, surfaces[i], shifted.y, jacobian)) return 0;
+    float t = luminance(shifted.y.contribution) * jacobian;
     if (b->planted_on) t *= b->planted.jacobian_scale * (i == shifting ? b->planted.own_target_scale : 1.0f);
     return t;
   }
