@@ -127,12 +127,8 @@ TEST_SUITE("slow_equivalence_enhanced") {
   }
 
   TEST_CASE("resampled NEE: ReSTIR PT (stripes, mirror-glass, Cornell box; hybrid and reconnection) is equivalent to the path tracer") {
-    for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
-      const std::string path = own_scene(name);
-      Scene scene = load_scene(path);
-      certify_one(std::string("restir-pt hybrid, 8 NEE candidates, forced NEE reconnection ") + name, path, scene,
-                  resampled_nee_pt(scene, "hybrid"), certification(restir::ReuseMis::pairwise, 180, 180, 32768));
-    }
+    certify_shift_stressing("restir-pt hybrid, 8 NEE candidates, forced NEE reconnection",
+                            [](const Scene& scene) { return resampled_nee_pt(scene, "hybrid"); });
     {  // tiny, strongly correlated light tiles (4 tiles of 16 emitters and 16 environment directions)
       const std::string path = own_scene("mirror-glass.pbrt");
       Scene scene = load_scene(path);
@@ -183,12 +179,8 @@ TEST_SUITE("slow_equivalence_enhanced") {
 
 TEST_SUITE("slow_equivalence_enhanced") {
   TEST_CASE("ratio MIS weights (Pan et al. 2024): ReSTIR PT (stripes, mirror-glass, Cornell box) and DI (many-lights) are equivalent to the path tracer") {
-    for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
-      const std::string path = own_scene(name);
-      Scene scene = load_scene(path);
-      certify_one(std::string("restir-pt hybrid, symmetric-ratio spatial, asymmetric-ratio temporal ") + name, path, scene,
-                  ratio_pt(scene, "symmetric-ratio", "asymmetric-ratio", false), certification(restir::ReuseMis::pairwise, 180, 180, 32768));
-    }
+    certify_shift_stressing("restir-pt hybrid, symmetric-ratio spatial, asymmetric-ratio temporal",
+                            [](const Scene& scene) { return ratio_pt(scene, "symmetric-ratio", "asymmetric-ratio", false); });
     const std::string cornell = shared_scene("cornell-box/scene-v4.pbrt");
     Scene scene = load_scene(cornell);
     certify_one("restir-pt hybrid, asymmetric-ratio spatial (paired), symmetric-ratio temporal cornell", cornell, scene,

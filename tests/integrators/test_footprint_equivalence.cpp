@@ -44,12 +44,7 @@ Certification planted_certification() { return certification(restir::ReuseMis::p
 
 TEST_SUITE("slow_equivalence_footprint") {
   TEST_CASE("footprint reconnection: ReSTIR PT (stripes, mirror-glass, Cornell box) is equivalent to the path tracer") {
-    for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
-      const std::string path = own_scene(name);
-      Scene scene = load_scene(path);
-      certify_one(std::string("restir-pt hybrid footprint ") + name, path, scene, footprint_pt(scene),
-                  certification(restir::ReuseMis::pairwise, 180, 180, 32768));
-    }
+    certify_shift_stressing("restir-pt hybrid footprint", footprint_pt);
     const std::string cornell = shared_scene("cornell-box/scene-v4.pbrt");
     Scene scene = load_scene(cornell);
     certify_one("restir-pt hybrid footprint cornell", cornell, scene, footprint_pt(scene),

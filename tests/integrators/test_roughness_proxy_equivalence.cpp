@@ -49,12 +49,7 @@ Certification planted_certification() {
 
 TEST_SUITE("slow_equivalence_proxy") {
   TEST_CASE("pdf roughness proxy: ReSTIR PT (stripes, mirror-glass, Cornell box; both criteria) is equivalent to the path tracer") {
-    for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
-      const std::string path = own_scene(name);
-      Scene scene = load_scene(path);
-      certify_one(std::string("restir-pt hybrid pdf proxy ") + name, path, scene, proxy_pt(scene),
-                  certification(restir::ReuseMis::pairwise, 180, 180, 32768));
-    }
+    certify_shift_stressing("restir-pt hybrid pdf proxy", [](const Scene& scene) { return proxy_pt(scene); });
     const std::string stripes = own_scene("stripes.pbrt");
     Scene st = load_scene(stripes);
     certify_one("restir-pt hybrid footprint pdf proxy stripes.pbrt", stripes, st, proxy_pt(st, "footprint"),

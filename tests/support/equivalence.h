@@ -324,6 +324,17 @@ inline void certify_one(const std::string& label, const std::string& path, const
   CHECK(rep.pass());
 }
 
+// Certifies options(scene) on each of the shift-stressing scenes, stripes and mirror-glass, 180 runs
+// against a 32768-spp reference, reported as "label scene-file".
+template <class MakeOptions>
+inline void certify_shift_stressing(const std::string& label, const MakeOptions& options) {
+  for (const char* name : {"stripes.pbrt", "mirror-glass.pbrt"}) {
+    const std::string path = own_scene(name);
+    Scene scene = load_scene(path);
+    certify_one(label + " " + name, path, scene, options(scene), certification(restir::ReuseMis::pairwise, 180, 180, 32768));
+  }
+}
+
 // A planted bias's power test: `repeats` certifications of o with `planted` (runs from seeds
 // 100000 + 10000 r), each against the one reference of c; prints each report and the count under
 // `label`, and returns how many the harness flags.

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "test_helpers.h"
+#include "criterion_vertices.h"
 #include "integrators/restir_pt/walk.h"
 
 using namespace rl;
@@ -19,26 +20,7 @@ PathSettings footprint_settings(float c = 0.02f) {
   return ps;
 }
 
-// A vertex at p with geometric and shading normal n, seen from direction wo, with BSDF b.
-Vertex vertex(Vec3 p, Vec3 n, Vec3 wo, const Bsdf& b) {
-  Vertex v;
-  v.p = p;
-  v.ng = n;
-  v.frame = Frame::from_normal(n);
-  v.wo = wo;
-  v.bsdf = b;
-  v.delta = bsdf_is_delta(b);
-  return v;
-}
-
 Bsdf diffuse() { return Bsdf{}; }
-
-Bsdf conductor(float alpha) {
-  MaterialParams m;
-  m.type = Material::Type::conductor;
-  m.alpha_x = m.alpha_y = alpha;
-  return make_bsdf(m, Rgb(0.9f));
-}
 
 }  // namespace
 

@@ -10,6 +10,7 @@
 #include "test_helpers.h"
 #include "core/rng.h"
 #include "core/sampling.h"
+#include "criterion_vertices.h"
 #include "integrators/restir_pt/walk.h"
 
 using namespace rl;
@@ -24,26 +25,6 @@ PathSettings proxy_settings(Reconnection criterion = Reconnection::roughness_dis
   ps.pt.reconnection = criterion;
   return ps;
 }
-
-Vertex vertex(Vec3 p, Vec3 n, Vec3 wo, const Bsdf& b) {
-  Vertex v;
-  v.p = p;
-  v.ng = n;
-  v.frame = Frame::from_normal(n);
-  v.wo = wo;
-  v.bsdf = b;
-  v.delta = bsdf_is_delta(b);
-  return v;
-}
-
-Bsdf with(Material::Type type, float alpha) {
-  MaterialParams m;
-  m.type = type;
-  m.alpha_x = m.alpha_y = alpha;
-  m.ior = 1.5f;
-  return make_bsdf(m, Rgb(0.8f));
-}
-Bsdf conductor(float alpha) { return with(Material::Type::conductor, alpha); }
 
 const Vec3 up(0, 0, 1), down(0, 0, -1);
 // 15 degrees off the normal: off a GGX lobe's peak at normal incidence.
@@ -87,7 +68,7 @@ TEST_SUITE("restir_pt_footprint") {
       CHECK(rough_toward(ps, d, dir, 1.0f));
       ++diffuse_checked;
       for (Material::Type t : {Material::Type::conductor, Material::Type::dielectric}) {
-        const Vertex s = vertex(Vec3(0), up, wo, with(t, 0));
+        const Vertex s = vertex(Vec3(0), up, wo, ggx_bsdf(t, 0));
         REQUIRE(s.delta);
         CHECK_FALSE(rough_toward(ps, s, dir, 0.0f));
         ++delta_checked;
