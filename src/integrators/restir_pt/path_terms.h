@@ -121,11 +121,16 @@ RESTIR_HD inline bool criterion_depends_on_direction(const PathSettings& ps) { r
 // the footprints use, supplement §3). A GGX lobe's peak density 1/(4π α²) gives 16π² α⁴: 0.2 is met
 // from α ≈ 0.19, the roughness the material threshold asks. A diffuse lobe (p <= 1/π) is always
 // rough (π² > 1, the thresholds' upper bound). Compared as p² α_min <= 1 (p = 0: no density, rough).
+RESTIR_HD inline bool proxy_rough(const Vertex& v, float pdf, float threshold) { return !v.delta && pdf * pdf * threshold <= 1; }
 RESTIR_HD inline bool rough_toward(const PathSettings& ps, const Vertex& v, Vec3 dir, float threshold) {
-  if (!pdf_proxy(ps)) return rough(v, threshold);
-  if (v.delta) return false;
-  const float p = pdf_toward(ps, v, dir);
-  return p * p * threshold <= 1;
+  return pdf_proxy(ps) ? proxy_rough(v, pdf_toward(ps, v, dir), threshold) : rough(v, threshold);
+}
+// The footprint criterion's test at x_{k-1} (a): α_min and the forward footprint toward b along dir,
+// `cos_b` the cosine at b; the pdf proxy reads the same density as the footprint, computed once.
+RESTIR_HD inline bool opens_footprint(const PathSettings& ps, const Vertex& a, Vec3 dir, float distance, float cos_b, float thr) {
+  if (!pdf_proxy(ps)) return rough(a, ps.pt.footprint_min_roughness) && footprint_at_least(distance, pdf_toward(ps, a, dir), cos_b, thr);
+  const float p = pdf_toward(ps, a, dir);
+  return proxy_rough(a, p, ps.pt.footprint_min_roughness) && footprint_at_least(distance, p, cos_b, thr);
 }
 // Whether pair_completes tests anything (else an open pair is reconnectable as soon as b's event is
 // not a delta): the inverse footprint, or the pdf proxy at x_k under roughness-distance; neither
@@ -139,8 +144,7 @@ RESTIR_HD inline bool pair_opens(const PathSettings& ps, const Vertex& a, const 
   if (!footprint_mode(ps))
     return rough_toward(ps, a, dir, ps.pt.roughness_threshold) && (pdf_proxy(ps) || rough(b, ps.pt.roughness_threshold)) &&
            distance >= ps.pt.distance_threshold;
-  return rough_toward(ps, a, dir, ps.pt.footprint_min_roughness) &&
-         footprint_at_least(distance, pdf_toward(ps, a, dir), std::fabs(dot(b.ng, dir)), thr);
+  return opens_footprint(ps, a, dir, distance, std::fabs(dot(b.ng, dir)), thr);
 }
 // b.wo must be -dir (the incoming direction at x_k from x_{k-1}).
 RESTIR_HD inline bool pair_completes(const PathSettings& ps, const Vertex& b, Vec3 a_ng, Vec3 dir, float distance, Vec3 b_out, float thr) {
@@ -160,8 +164,8 @@ RESTIR_HD inline bool emitter_reconnectable(const PathSettings& ps, const Vertex
                                             float distance, float thr, bool nee) {
   if (nee && ps.pt.force_nee_reconnection) return true;
   if (!footprint_mode(ps)) return rough_toward(ps, v, dir, ps.pt.roughness_threshold) && (is_direction || distance >= ps.pt.distance_threshold);
-  return rough_toward(ps, v, dir, ps.pt.footprint_min_roughness) &&
-         (is_direction || footprint_at_least(distance, pdf_toward(ps, v, dir), std::fabs(dot(normal, dir)), thr));
+  if (is_direction) return rough_toward(ps, v, dir, ps.pt.footprint_min_roughness);
+  return opens_footprint(ps, v, dir, distance, std::fabs(dot(normal, dir)), thr);
 }
 
 // The last segment of a path: from vertex v to an emitter point (position = direction for the
