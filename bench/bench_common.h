@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <string>
 #include <vector>
 
 #include "core/parallel.h"
 #include "frame/render.h"
+#include "integrators/path/path_tracer.h"
 #include "frame/stage_times.h"
 #include "backends/cpu/accel.h"
 
@@ -103,6 +105,26 @@ inline void print_ray_share(const std::string& what, const RayShare& r) {
              "{:.1f} ms = {:.0f}% of the {:.1f} ms frame ({:.1f} ms outside the rays)\n",
              what, r.closest_per_pixel, r.any_hit_per_pixel, r.embree_ms, 100 * r.embree_ms / r.frame_ms, r.frame_ms,
              r.frame_ms - r.embree_ms);
+}
+
+// Every ray one frame of the reference path tracer traces (closest-hit rays, shadow rays).
+inline void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::vector<Ray>& rays, std::vector<Ray>& shadow) {
+  const Options& o = ctx.options;
+  std::mutex m;
+  parallel_for(o.film.height, [&](int y) {
+    PathStats st;
+    std::vector<Ray> r, s;
+    st.record_rays = &r;
+    st.record_shadow_rays = &s;
+    for (int x = 0; x < o.film.width; ++x)
+      for (int k = 0; k < o.render.spp; ++k) {
+        Pcg32 rng = make_rng(uint32_t(y * o.film.width + x), 0, RngPass::path, o.render.seed, uint32_t(k));
+        (void)path_radiance(ctx, o.path, camera_ray(camera_sampling(ctx.options), cam, x, y, 0, k), rng, &st);
+      }
+    std::lock_guard lock(m);
+    rays.insert(rays.end(), r.begin(), r.end());
+    shadow.insert(shadow.end(), s.begin(), s.end());
+  });
 }
 
 }  // namespace rl::bench

@@ -33,26 +33,6 @@ namespace {
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Every ray one frame of the reference path tracer traces (closest-hit rays, shadow rays).
-void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::vector<Ray>& rays, std::vector<Ray>& shadow) {
-  const Options& o = ctx.options;
-  std::mutex m;
-  parallel_for(o.film.height, [&](int y) {
-    PathStats st;
-    std::vector<Ray> r, s;
-    st.record_rays = &r;
-    st.record_shadow_rays = &s;
-    for (int x = 0; x < o.film.width; ++x)
-      for (int k = 0; k < o.render.spp; ++k) {
-        Pcg32 rng = make_rng(uint32_t(y * o.film.width + x), 0, RngPass::path, o.render.seed, uint32_t(k));
-        (void)path_radiance(ctx, o.path, camera_ray(camera_sampling(ctx.options), cam, x, y, 0, k), rng, &st);
-      }
-    std::lock_guard lock(m);
-    rays.insert(rays.end(), r.begin(), r.end());
-    shadow.insert(shadow.end(), s.begin(), s.end());
-  });
-}
-
 struct FrameTime {
   double ms = 0;         // median frame time after the first (which warms caches and the device)
   double device_ms = 0;  // the same frames' stages less the image's copy to the host and uploads
@@ -133,7 +113,7 @@ int main(int argc, char** argv) {
     RenderContext ctx{scene, accel, lights, o};
     PerspectiveCamera cam(scene.camera.at_frame(0, 1), width, height);
     std::vector<Ray> rays, shadow;
-    record_rays(ctx, cam, rays, shadow);
+    bench::record_rays(ctx, cam, rays, shadow);
     std::vector<Hit> hits(rays.size());
     std::vector<uint8_t> blocked(shadow.size());
     double embree_ms = 1e30;
@@ -146,16 +126,28 @@ int main(int argc, char** argv) {
     const CudaRayTiming closest = cuda_time_rays(scene, rays, repeats);
     const CudaRayTiming any = cuda_time_rays(scene, shadow, repeats);
     const double cuda_ms = closest.closest_ms + any.any_ms;
+    // The compressed 8-wide BVH (render.bvh = wide) on the same rays: issue 48 keeps it where
+    // this ratio is below 1.
+    const CudaRayTiming wide_closest = cuda_time_rays(scene, rays, repeats, BvhLayout::wide);
+    const CudaRayTiming wide_any = cuda_time_rays(scene, shadow, repeats, BvhLayout::wide);
+    const double wide_ms = wide_closest.closest_ms + wide_any.any_ms;
     const double total = double(rays.size() + shadow.size());
     const double cpu_pt = frame_ms(scene, o, "pt", Backend::cpu, frames).ms;
     const FrameTime gpu = frame_ms(scene, o, "pt", Backend::cuda, frames);
     const double gpu_pt = gpu.ms;
+    Options on_wide = o;
+    on_wide.render.bvh = BvhLayout::wide;
+    const FrameTime gpu_wide = frame_ms(scene, on_wide, "pt", Backend::cuda, frames);
     const std::string name = path.substr(path.find_last_of('/') + 1);
     fmt::print("{} {}x{} {} spp: {} rays ({} shadow)\n", name, width, height, spp, rays.size() + shadow.size(), shadow.size());
     fmt::print("  traversal: Embree (CPU, {} rays batched) {:.1f} ms = {:.1f} Mrays/s; CUDA kernels {:.2f} ms = {:.1f} Mrays/s "
                "(closest {:.2f} ms, any {:.2f} ms; upload {:.2f} ms); CUDA/Embree {:.1f}x\n",
                rays.size() + shadow.size(), embree_ms, total / embree_ms * 1e-3, cuda_ms, total / cuda_ms * 1e-3, closest.closest_ms,
                any.any_ms, closest.upload_ms + any.upload_ms, embree_ms / cuda_ms);
+    fmt::print("  traversal, 8-wide compressed BVH: {:.2f} ms = {:.1f} Mrays/s (closest {:.2f} ms, any {:.2f} ms); wide/binary time {:.3f} "
+               "(closest {:.3f}, any {:.3f}); hits {} vs {}\n",
+               wide_ms, total / wide_ms * 1e-3, wide_closest.closest_ms, wide_any.any_ms, wide_ms / cuda_ms,
+               wide_closest.closest_ms / closest.closest_ms, wide_any.any_ms / any.any_ms, wide_closest.hits, closest.hits);
     // The path tracer traces the same paths on both backends (same random streams), so the
     // recorded ray count is the GPU frame's too.
     fmt::print("  pt frame: cpu {:.1f} ms, cuda {:.1f} ms; cpu/cuda {:.1f}x; cuda {:.2f} Grays/s (closest + shadow rays per ms)\n",
@@ -163,6 +155,8 @@ int main(int argc, char** argv) {
     fmt::print("  cuda stages: {} (depth {}); without the image's copy to the host: {:.2f} ms = {:.2f} Grays/s\n", gpu.stages,
                o.path.max_depth, gpu.device_ms, total / gpu.device_ms * 1e-6);
     fmt::print("  cuda rays per pixel by stage (closest+any): {}\n", gpu.rays);
+    fmt::print("  pt frame on the 8-wide BVH: cuda {:.1f} ms, {:.2f} ms on the device; wide/binary {:.3f} (device {:.3f})\n", gpu_wide.ms,
+               gpu_wide.device_ms, gpu_wide.ms / gpu_pt, gpu_wide.device_ms / gpu.device_ms);
   }
   for (const auto& [integrator, list] : {std::pair{"restir-di", &di_scenes}, std::pair{"restir-gi", &gi_scenes}, std::pair{"restir-pt", &pt_scenes}})
     for (const std::string& path : *list) measure_restir(integrator, path, width, height, spp, pt_depth, frames);

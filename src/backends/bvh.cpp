@@ -5,38 +5,35 @@
 #include <stdexcept>
 #include <string>
 
+#include "backends/bvh_build.h"
+
 namespace rl {
+
+namespace bvh_build {
 
 namespace {
 
-// The builder's own tree, allocated in Embree's thread-local arenas and flattened afterwards.
-struct BuildNode {
-  bool leaf = false;
-  BuildNode* child[2] = {nullptr, nullptr};
-  RTCBounds bounds[2]{};
-  const unsigned* prims = nullptr;  // leaf: indices into the primitive list
-  unsigned count = 0;
-};
-
 void* create_node(RTCThreadLocalAllocator alloc, unsigned int children, void*) {
-  if (children > 2) return nullptr;
-  void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16);
-  return new (mem) BuildNode();
+  if (children > kMaxBranching) return nullptr;
+  void* mem = rtcThreadLocalAlloc(alloc, sizeof(Node), 16);
+  Node* n = new (mem) Node();
+  n->children = children;
+  return n;
 }
 
 void set_children(void* node, void** children, unsigned int count, void*) {
-  auto* n = static_cast<BuildNode*>(node);
-  for (unsigned i = 0; i < count && i < 2; ++i) n->child[i] = static_cast<BuildNode*>(children[i]);
+  auto* n = static_cast<Node*>(node);
+  for (unsigned i = 0; i < count && i < kMaxBranching; ++i) n->child[i] = static_cast<Node*>(children[i]);
 }
 
 void set_bounds(void* node, const RTCBounds** bounds, unsigned int count, void*) {
-  auto* n = static_cast<BuildNode*>(node);
-  for (unsigned i = 0; i < count && i < 2; ++i) n->bounds[i] = *bounds[i];
+  auto* n = static_cast<Node*>(node);
+  for (unsigned i = 0; i < count && i < kMaxBranching; ++i) n->bounds[i] = *bounds[i];
 }
 
 void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*) {
-  void* mem = rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16);
-  auto* n = new (mem) BuildNode();
+  void* mem = rtcThreadLocalAlloc(alloc, sizeof(Node), 16);
+  auto* n = new (mem) Node();
   auto* ids = static_cast<unsigned*>(rtcThreadLocalAlloc(alloc, sizeof(unsigned) * count, 4));
   for (size_t i = 0; i < count; ++i) ids[i] = prims[i].primID;
   n->leaf = true;
@@ -52,47 +49,31 @@ RTCBuildPrimitive bounds_of(Vec3 lo, Vec3 hi, unsigned index) {
   return p;
 }
 
-struct Flattener {
-  const std::vector<BvhPrimitive>& source;
-  Bvh& out;
-  // Appends a leaf's primitives; returns the first.
-  uint32_t leaf(const BuildNode* n) {
-    const uint32_t first = uint32_t(out.primitives.size());
-    for (unsigned i = 0; i < n->count; ++i) out.primitives.push_back(source[n->prims[i]]);
-    return first;
-  }
-  // Writes inner node n at index `at` (already reserved), children depth-first after it.
-  void inner(const BuildNode* n, uint32_t at, int depth) {
-    if (depth > kBvhMaxDepth) throw BackendError("BVH deeper than the traversal stack allows");
-    out.depth = std::max(out.depth, depth);
-    for (int c = 0; c < 2; ++c) {
-      BvhNode& slot = out.nodes[at];
-      const BuildNode* ch = n->child[c];
-      if (!ch) {
-        slot.child[c] = kBvhNone, slot.count[c] = 0;
-        continue;
-      }
-      slot.lo[c] = {n->bounds[c].lower_x, n->bounds[c].lower_y, n->bounds[c].lower_z};
-      slot.hi[c] = {n->bounds[c].upper_x, n->bounds[c].upper_y, n->bounds[c].upper_z};
-      if (ch->leaf) {
-        const uint32_t first = leaf(ch);
-        out.nodes[at].child[c] = first, out.nodes[at].count[c] = ch->count;
-        out.depth = std::max(out.depth, depth + 1);
-      } else {
-        const uint32_t index = uint32_t(out.nodes.size());
-        out.nodes.emplace_back();
-        out.nodes[at].child[c] = index, out.nodes[at].count[c] = 0;
-        inner(ch, index, depth + 1);
-      }
-    }
-  }
-};
+RTCBuildArguments build_arguments(RTCBVH handle, std::vector<RTCBuildPrimitive>& refs, unsigned branching, unsigned max_leaf) {
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.byteSize = sizeof(args);
+  args.buildQuality = RTC_BUILD_QUALITY_HIGH;
+  args.maxBranchingFactor = branching;
+  args.maxDepth = kBvhMaxDepth;
+  args.sahBlockSize = 1;
+  args.minLeafSize = 1;
+  args.maxLeafSize = max_leaf;
+  // SAH costs for a SIMT traversal: a box pair per node fetch vs one primitive test (Aila &
+  // Laine 2009 use roughly equal costs).
+  args.traversalCost = 1.0f;
+  args.intersectionCost = 1.0f;
+  args.bvh = handle;
+  args.primitives = refs.data();
+  args.primitiveCount = refs.size();
+  args.primitiveArrayCapacity = refs.size();  // no spatial splits: each primitive in one leaf
+  args.createNode = create_node;
+  args.setNodeChildren = set_children;
+  args.setNodeBounds = set_bounds;
+  args.createLeaf = create_leaf;
+  return args;
+}
 
-// The build's input: every triangle and sphere, and its bounds for Embree (primID: its index).
-struct Primitives {
-  std::vector<BvhPrimitive> prims;
-  std::vector<RTCBuildPrimitive> refs;
-};
+}  // namespace
 
 Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
   Primitives r;
@@ -121,43 +102,86 @@ Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
   return r;
 }
 
-RTCBuildArguments build_arguments(RTCBVH handle, std::vector<RTCBuildPrimitive>& refs) {
-  RTCBuildArguments args = rtcDefaultBuildArguments();
-  args.byteSize = sizeof(args);
-  args.buildQuality = RTC_BUILD_QUALITY_HIGH;
-  args.maxBranchingFactor = 2;
-  args.maxDepth = kBvhMaxDepth;
-  args.sahBlockSize = 1;
-  args.minLeafSize = 1;
-  args.maxLeafSize = 4;
-  // SAH costs for a SIMT traversal: a box pair per node fetch vs one primitive test (Aila &
-  // Laine 2009 use roughly equal costs).
-  args.traversalCost = 1.0f;
-  args.intersectionCost = 1.0f;
-  args.bvh = handle;
-  args.primitives = refs.data();
-  args.primitiveCount = refs.size();
-  args.primitiveArrayCapacity = refs.size();  // no spatial splits: each primitive in one leaf
-  args.createNode = create_node;
-  args.setNodeChildren = set_children;
-  args.setNodeBounds = set_bounds;
-  args.createLeaf = create_leaf;
-  return args;
+Bounds3 bounds_of(const std::vector<BvhPrimitive>& prims, uint32_t sphere_geom) {
+  Bounds3 b;
+  for (const BvhPrimitive& p : prims) {
+    if (p.geom == sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
+    else b.extend(p.a), b.extend(p.b), b.extend(p.c);
+  }
+  return b;
 }
 
+void build(Primitives& in, unsigned branching, unsigned max_leaf, const std::function<void(const Node&)>& use) {
+  RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
+  if (!device) throw BackendError("cannot create the Embree device for the BVH build");
+  RTCBVH handle = rtcNewBVH(device);
+  RTCBuildArguments args = build_arguments(handle, in.refs, branching, max_leaf);
+  void* root = rtcBuildBVH(&args);
+  const RTCError err = rtcGetDeviceError(device);
+  try {
+    if (!root || err != RTC_ERROR_NONE)
+      throw BackendError("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
+    use(*static_cast<const Node*>(root));
+  } catch (...) {
+    rtcReleaseBVH(handle);
+    rtcReleaseDevice(device);
+    throw;
+  }
+  rtcReleaseBVH(handle);
+  rtcReleaseDevice(device);
+}
+
+}  // namespace bvh_build
+
+namespace {
+
+using bvh_build::Node;
+
+struct Flattener {
+  const std::vector<BvhPrimitive>& source;
+  Bvh& out;
+  // Appends a leaf's primitives; returns the first.
+  uint32_t leaf(const Node* n) {
+    const uint32_t first = uint32_t(out.primitives.size());
+    for (unsigned i = 0; i < n->count; ++i) out.primitives.push_back(source[n->prims[i]]);
+    return first;
+  }
+  // Writes inner node n at index `at` (already reserved), children depth-first after it.
+  void inner(const Node* n, uint32_t at, int depth) {
+    if (depth > kBvhMaxDepth) throw BackendError("BVH deeper than the traversal stack allows");
+    out.depth = std::max(out.depth, depth);
+    for (int c = 0; c < 2; ++c) {
+      BvhNode& slot = out.nodes[at];
+      const Node* ch = n->child[c];
+      if (!ch) {
+        slot.child[c] = kBvhNone, slot.count[c] = 0;
+        continue;
+      }
+      slot.lo[c] = {n->bounds[c].lower_x, n->bounds[c].lower_y, n->bounds[c].lower_z};
+      slot.hi[c] = {n->bounds[c].upper_x, n->bounds[c].upper_y, n->bounds[c].upper_z};
+      if (ch->leaf) {
+        const uint32_t first = leaf(ch);
+        out.nodes[at].child[c] = first, out.nodes[at].count[c] = ch->count;
+        out.depth = std::max(out.depth, depth + 1);
+      } else {
+        const uint32_t index = uint32_t(out.nodes.size());
+        out.nodes.emplace_back();
+        out.nodes[at].child[c] = index, out.nodes[at].count[c] = 0;
+        inner(ch, index, depth + 1);
+      }
+    }
+  }
+};
+
 // The builder's tree (root r) into bvh's flat nodes and primitives.
-void flatten(const BuildNode* r, const std::vector<BvhPrimitive>& prims, Bvh& bvh) {
+void flatten(const Node* r, const std::vector<BvhPrimitive>& prims, Bvh& bvh) {
   bvh.nodes.reserve(prims.size());  // a binary tree over n leaves of >= 1 primitive has < n inner nodes
   bvh.primitives.reserve(prims.size());
   bvh.nodes.emplace_back();
   Flattener f{prims, bvh};
   if (r->leaf) {  // a whole scene in one leaf: a root with one leaf child
     bvh.nodes[0].child[1] = kBvhNone, bvh.nodes[0].count[1] = 0;
-    Bounds3 b;
-    for (const BvhPrimitive& p : prims) {
-      if (p.geom == bvh.sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
-      else b.extend(p.a), b.extend(p.b), b.extend(p.c);
-    }
+    const Bounds3 b = bvh_build::bounds_of(prims, bvh.sphere_geom);
     bvh.nodes[0].lo[0] = b.lo, bvh.nodes[0].hi[0] = b.hi;
     bvh.nodes[0].child[0] = f.leaf(r), bvh.nodes[0].count[0] = r->count;
     bvh.depth = 2;
@@ -168,31 +192,18 @@ void flatten(const BuildNode* r, const std::vector<BvhPrimitive>& prims, Bvh& bv
 
 }  // namespace
 
-Bvh build_bvh(const Scene& scene) {
+Bvh build_bvh(const Scene& scene, BvhLayout layout) {
   Bvh bvh;
+  bvh.layout = layout;
   bvh.sphere_geom = uint32_t(scene.meshes.size());
-  Primitives in = gather_primitives(scene, bvh.sphere_geom);
-  const std::vector<BvhPrimitive>& prims = in.prims;
-  if (prims.empty()) return bvh;
-
-  RTCDevice device = rtcNewDevice("threads=0");  // TBB's arena, as Accel
-  if (!device) throw BackendError("cannot create the Embree device for the BVH build");
-  RTCBVH handle = rtcNewBVH(device);
-  RTCBuildArguments args = build_arguments(handle, in.refs);
-  void* root = rtcBuildBVH(&args);
-  const RTCError err = rtcGetDeviceError(device);
-  try {
-    if (!root || err != RTC_ERROR_NONE)
-      throw BackendError("Embree could not build the BVH (code " + std::to_string(int(err)) + ")");
-    flatten(static_cast<const BuildNode*>(root), prims, bvh);
-  } catch (...) {
-    rtcReleaseBVH(handle);
-    rtcReleaseDevice(device);
-    throw;
-  }
-  rtcReleaseBVH(handle);
-  rtcReleaseDevice(device);
-  if (bvh.primitives.size() != prims.size()) throw BackendError("BVH build lost primitives");
+  bvh_build::Primitives in = bvh_build::gather_primitives(scene, bvh.sphere_geom);
+  if (in.prims.empty()) return bvh;
+  const bool wide = layout == BvhLayout::wide;
+  bvh_build::build(in, wide ? kWideBvhWidth : 2, wide ? kWideBvhMaxLeaf : 4, [&](const Node& root) {
+    if (wide) flatten_wide(root, in.prims, bvh);
+    else flatten(&root, in.prims, bvh);
+  });
+  if (bvh.primitives.size() != in.prims.size()) throw BackendError("BVH build lost primitives");
   return bvh;
 }
 

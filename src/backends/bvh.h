@@ -6,11 +6,16 @@
 // tree whose node holds both children's boxes, so a thread tests two boxes per node fetch and
 // never loads a child it will not enter. 64-byte nodes, 48-byte primitives (triangle vertices or
 // sphere centre and radius, with the scene ids Hit reports).
+//
+// Or (render.bvh = wide) the compressed 8-wide tree of Ylitie, Karras & Laine 2017 (wide_bvh.h)
+// over the same primitives, built by the same builder with eight children a node.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "backends/backend_error.h"
+#include "backends/bvh_layout.h"
+#include "backends/wide_bvh.h"
 #include "core/math.h"
 #include "scene/scene.h"
 
@@ -33,28 +38,35 @@ struct BvhPrimitive {
 };
 static_assert(sizeof(BvhPrimitive) == 48);
 
-// What a traversal sees: pointers into host or device memory (trivially copyable).
+// What a traversal sees: pointers into host or device memory (trivially copyable). One of nodes
+// and wide_nodes is set (the tree's layout), or neither for an empty scene.
 struct BvhView {
   const BvhNode* nodes = nullptr;
+  const WideBvhNode* wide_nodes = nullptr;
   const BvhPrimitive* primitives = nullptr;
-  uint32_t node_count = 0, primitive_count = 0;
+  uint32_t node_count = 0, primitive_count = 0;  // node_count: of the layout's nodes
   uint32_t sphere_geom = 0;  // geom id of spheres (= number of meshes, as Accel)
 };
 
 inline constexpr int kBvhMaxDepth = 48;  // the builder's depth limit; the traversal stack holds this many
 
 struct Bvh {
-  std::vector<BvhNode> nodes;           // nodes[0] is the root (none for an empty scene)
+  BvhLayout layout = BvhLayout::binary;
+  std::vector<BvhNode> nodes;           // binary: nodes[0] is the root (none for an empty scene)
+  std::vector<WideBvhNode> wide_nodes;  // wide: wide_nodes[0] is the root
   std::vector<BvhPrimitive> primitives; // in leaf order
   uint32_t sphere_geom = 0;
   int depth = 0;                        // of the deepest leaf (root = 1)
+  uint32_t node_count() const { return uint32_t(layout == BvhLayout::wide ? wide_nodes.size() : nodes.size()); }
+  size_t node_bytes() const { return nodes.size() * sizeof(BvhNode) + wide_nodes.size() * sizeof(WideBvhNode); }
   BvhView view() const {
-    return {nodes.data(), primitives.data(), uint32_t(nodes.size()), uint32_t(primitives.size()), sphere_geom};
+    return {nodes.empty() ? nullptr : nodes.data(), wide_nodes.empty() ? nullptr : wide_nodes.data(), primitives.data(),
+            node_count(), uint32_t(primitives.size()), sphere_geom};
   }
 };
 
-// SAH build over every triangle and sphere of the scene (its current pose). Throws
-// BackendError if Embree fails.
-Bvh build_bvh(const Scene& scene);
+// SAH build over every triangle and sphere of the scene (its current pose), flattened into the
+// layout's tree. Throws BackendError if Embree fails.
+Bvh build_bvh(const Scene& scene, BvhLayout layout = BvhLayout::binary);
 
 }  // namespace rl

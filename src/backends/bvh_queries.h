@@ -9,15 +9,16 @@ namespace rl {
 
 class BvhQueries final : public RayQueries {
  public:
-  explicit BvhQueries(const Scene& scene) : scene_(scene), bvh_(build_bvh(scene)) {}
+  explicit BvhQueries(const Scene& scene, BvhLayout layout = BvhLayout::binary) : scene_(scene), layout_(layout), bvh_(build_bvh(scene, layout)) {}
   void intersect_batch(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const override;
   void occluded_batch(std::span<const Ray> rays, std::span<uint8_t> blocked) const override;
-  void update() override { bvh_ = build_bvh(scene_); }
+  void update() override { bvh_ = build_bvh(scene_, layout_); }
   const char* backend_name() const override { return "cpu-bvh"; }
   const Bvh& bvh() const { return bvh_; }
 
  private:
   const Scene& scene_;
+  BvhLayout layout_;
   Bvh bvh_;
 };
 

@@ -1,4 +1,4 @@
-// Closest-hit and any-hit traversal of a Bvh (bvh.h), the same code on the host (tests, against
+// Closest-hit and any-hit traversal of a Bvh (bvh.h; either layout), the same code on the host (tests, against
 // Embree) and on the GPU (src/backends/cuda). Hits agree with Accel's: same t range (tmin <= t <=
 // tmax, inclusive as Embree), same ids, same barycentrics (u, v of vertices 1 and 2), the same
 // guard on rays Embree refuses (ray_queryable).
@@ -65,12 +65,112 @@ RESTIR_HD inline bool bvh_sphere_hit(const BvhPrimitive& p, const Ray& r, float 
   return false;
 }
 
-// Closest hit (any_hit = false) or any hit (true: returns at the first). hit is written only on
-// a closest hit. Iterative, with a stack of the far children (kBvhMaxDepth deep).
-RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit, Hit* hit) {
-  if (bvh.node_count == 0 || !ray_queryable(ray)) return false;
-  auto safe_inv = [](float d) { return std::fabs(d) > 1e-30f ? 1.0f / d : std::copysign(1e30f, d); };
-  const Vec3 inv_d{safe_inv(ray.d.x), safe_inv(ray.d.y), safe_inv(ray.d.z)};
+// Tests primitive i of the BVH against the ray in [tmin, tmax]. On a hit, a closest-hit query
+// (hit != null) narrows tmax to it and records it; an any-hit query (hit == null) only learns it.
+RESTIR_HD inline bool bvh_primitive_hit(const BvhView& bvh, uint32_t i, const Ray& ray, float tmin, float& tmax, Hit* hit) {
+  const BvhPrimitive& p = bvh.primitives[i];
+  float t, u = 0, v = 0;
+  const bool h = p.geom == bvh.sphere_geom ? bvh_sphere_hit(p, ray, tmin, tmax, t) : bvh_triangle_hit(p, ray, tmin, tmax, t, u, v);
+  if (!h) return false;
+  if (hit) tmax = t, hit->t = t, hit->geom = p.geom, hit->prim = p.prim, hit->u = u, hit->v = v;
+  return true;
+}
+
+// 1 / d with zeros replaced by a huge value of the same sign (bvh_box_hit).
+RESTIR_HD inline Vec3 bvh_inverse_direction(Vec3 d) {
+  auto safe_inv = [](float x) { return std::fabs(x) > 1e-30f ? 1.0f / x : std::copysign(1e30f, x); };
+  return {safe_inv(d.x), safe_inv(d.y), safe_inv(d.z)};
+}
+
+// Wide layout (Ylitie, Karras & Laine 2017, §4 and Algorithm 1): a node's hit children become
+// one 32-bit mask (wide_bvh.h's meta), and the stack holds (base, mask) groups of nodes still to
+// visit instead of nodes. The inner child of the highest bit goes first: for a ray of octant o
+// that is slot o, the child the build put first along o's diagonal. A leaf's primitives are
+// tested as soon as their node is (the paper may postpone them to keep a warp's lanes together;
+// the hits are the same).
+struct WideBvhGroup {
+  uint32_t base = 0;  // nodes: the first inner child; primitives: the first primitive
+  uint32_t mask = 0;  // nodes: hit bits 24-31 and the parent's inner mask in 0-7; primitives: bits 0-23
+};
+
+RESTIR_HD inline int wide_bvh_highest_bit(uint32_t x) {
+#ifdef __CUDA_ARCH__
+  return 31 - __clz(x);
+#else
+  return 31 - __builtin_clz(x);
+#endif
+}
+
+RESTIR_HD inline uint32_t wide_bvh_popcount(uint32_t x) {
+#ifdef __CUDA_ARCH__
+  return uint32_t(__popc(x));
+#else
+  return uint32_t(__builtin_popcount(x));
+#endif
+}
+
+// The children of node n the ray enters within [tmin, tmax], as a hit mask (wide_bvh.h). The ray
+// is moved onto the node's grid once (the paper's §4: a plane q 2^e + p is crossed at
+// t = q (2^e / d) + (p - o) / d), so a child's six planes cost a multiply-add each.
+RESTIR_HD inline uint32_t wide_bvh_node_hits(const WideBvhNode& n, const Ray& ray, Vec3 inv_d, float tmin, float tmax, uint32_t oct_inv) {
+  const Vec3 scale{wide_bvh_step(n.exponent[0]) * inv_d.x, wide_bvh_step(n.exponent[1]) * inv_d.y, wide_bvh_step(n.exponent[2]) * inv_d.z};
+  const Vec3 shift{(n.origin.x - ray.o.x) * inv_d.x, (n.origin.y - ray.o.y) * inv_d.y, (n.origin.z - ray.o.z) * inv_d.z};
+  uint32_t hits = 0;
+  for (uint32_t s = 0; s < uint32_t(kWideBvhWidth); ++s) {
+    const uint32_t meta = n.meta[s];
+    if (meta == 0) continue;
+    const float tx0 = float(n.lo[0][s]) * scale.x + shift.x, tx1 = float(n.hi[0][s]) * scale.x + shift.x;
+    const float ty0 = float(n.lo[1][s]) * scale.y + shift.y, ty1 = float(n.hi[1][s]) * scale.y + shift.y;
+    const float tz0 = float(n.lo[2][s]) * scale.z + shift.z, tz1 = float(n.hi[2][s]) * scale.z + shift.z;
+    const float t0 = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), tmin));
+    const float t1 = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fminf(fmaxf(tz0, tz1), tmax));
+    if (!(t0 <= t1 * 1.00000024f)) continue;
+    // Inner: one bit at 24 + (s ^ oct_inv); leaf: its primitives' bits from its offset.
+    const uint32_t bit = (meta & 31u) ^ ((n.inner_mask >> s) & 1u ? oct_inv : 0u);
+    hits |= (meta >> 5) << bit;
+  }
+  return hits;
+}
+
+RESTIR_HD inline bool wide_bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit, Hit* hit) {
+  const Vec3 inv_d = bvh_inverse_direction(ray.d);
+  const uint32_t oct_inv = 7u - ((ray.d.x < 0 ? 4u : 0u) | (ray.d.y < 0 ? 2u : 0u) | (ray.d.z < 0 ? 1u : 0u));
+  const float tmin = ray.tmin;
+  float tmax = ray.tmax;
+  bool found = false;
+  WideBvhGroup stack[kBvhMaxDepth + 2];  // a group a level at most: the tree is at most kBvhMaxDepth deep
+  int sp = 0;
+  WideBvhGroup nodes{0, 1u << 31};  // the root: bit 31 with an empty inner mask is index 0
+  WideBvhGroup prims{};
+  for (;;) {
+    while (prims.mask != 0) {
+      const int b = wide_bvh_highest_bit(prims.mask);
+      prims.mask &= ~(1u << b);
+      if (!bvh_primitive_hit(bvh, prims.base + uint32_t(b), ray, tmin, tmax, any_hit ? nullptr : hit)) continue;
+      if (any_hit) return true;
+      found = true;
+    }
+    if ((nodes.mask & 0xff000000u) == 0) {
+      if (sp == 0) return found;
+      nodes = stack[--sp];
+    }
+    const int b = wide_bvh_highest_bit(nodes.mask);
+    nodes.mask &= ~(1u << b);
+    const uint32_t slot = uint32_t(b - 24) ^ oct_inv;
+    // The inner children before this slot in the parent come before it in memory.
+    const uint32_t index = nodes.base + wide_bvh_popcount(nodes.mask & 0xffu & ((1u << slot) - 1u));
+    if (nodes.mask & 0xff000000u) stack[sp++] = nodes;
+    const WideBvhNode& n = bvh.wide_nodes[index];
+    const uint32_t hits = wide_bvh_node_hits(n, ray, inv_d, tmin, tmax, oct_inv);
+    nodes = {n.child_base, (hits & 0xff000000u) | n.inner_mask};
+    prims = {n.primitive_base, hits & 0x00ffffffu};
+  }
+}
+
+// Binary layout: iterative, nearer child first, with a stack of the far children (kBvhMaxDepth
+// deep) and where the ray enters them.
+RESTIR_HD inline bool binary_bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit, Hit* hit) {
+  const Vec3 inv_d = bvh_inverse_direction(ray.d);
   const float tmin = ray.tmin;
   float tmax = ray.tmax;
   bool found = false;
@@ -91,14 +191,9 @@ RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit
         continue;
       }
       for (uint32_t i = n.child[c], end = n.child[c] + n.count[c]; i < end; ++i) {
-        const BvhPrimitive& p = bvh.primitives[i];
-        float t, u = 0, v = 0;
-        const bool h = p.geom == bvh.sphere_geom ? bvh_sphere_hit(p, ray, tmin, tmax, t) : bvh_triangle_hit(p, ray, tmin, tmax, t, u, v);
-        if (!h) continue;
+        if (!bvh_primitive_hit(bvh, i, ray, tmin, tmax, any_hit ? nullptr : hit)) continue;
         if (any_hit) return true;
         found = true;
-        tmax = t;
-        hit->t = t, hit->geom = p.geom, hit->prim = p.prim, hit->u = u, hit->v = v;
       }
     }
     if (inner == 2) {  // nearer child first; the farther waits on the stack
@@ -115,6 +210,14 @@ RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit
       node = stack[sp];
     }
   }
+}
+
+// Closest hit (any_hit = false) or any hit (true: returns at the first) in either layout. hit
+// is written only on a closest hit.
+RESTIR_HD inline bool bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit, Hit* hit) {
+  if (bvh.node_count == 0 || !ray_queryable(ray)) return false;
+  if (bvh.wide_nodes) return wide_bvh_trace(bvh, ray, any_hit, hit);
+  return binary_bvh_trace(bvh, ray, any_hit, hit);
 }
 
 // The ray tracer the per-pixel stages take (di_pixel.h's Tracer) over this traversal: the CUDA

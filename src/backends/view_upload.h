@@ -72,8 +72,8 @@ LightsView store_lights_view(Store& store, const LightsView& h) {
 
 template <class Store>
 BvhView store_bvh_view(Store& store, const Bvh& bvh) {
-  return BvhView{store.upload(bvh.nodes), store.upload(bvh.primitives), uint32_t(bvh.nodes.size()), uint32_t(bvh.primitives.size()),
-                 bvh.sphere_geom};
+  return BvhView{store.upload(bvh.nodes), store.upload(bvh.wide_nodes), store.upload(bvh.primitives), bvh.node_count(),
+                 uint32_t(bvh.primitives.size()), bvh.sphere_geom};
 }
 
 }  // namespace rl

@@ -78,7 +78,7 @@ struct BvhBackend {
         StageTimer timer(frame.stages, "upload");
         store_.clear();
         generation_ = ctx.accel.generation();
-        fw_.tracer = BvhTracer{store_bvh_view(store_, build_bvh(ctx.scene)), {}};
+        fw_.tracer = BvhTracer{store_bvh_view(store_, build_bvh(ctx.scene, ctx.options.render.bvh)), {}};
         fw_.world = PathWorld{store_scene_view(store_, ctx.accel.scene_view()), store_lights_view(store_, ctx.lights.view()),
                               ctx.accel.ray_epsilon()};
         fw_.animated = scene_animated(ctx.scene);
@@ -113,7 +113,7 @@ struct BvhBackend {
       previous_store_.clear();
       if (fw_.has_previous) {
         const Lights& lights = frame.previous_lights ? *frame.previous_lights : ctx.lights;
-        fw_.previous_tracer = BvhTracer{store_bvh_view(previous_store_, build_bvh(*frame.previous_scene)), {}};
+        fw_.previous_tracer = BvhTracer{store_bvh_view(previous_store_, build_bvh(*frame.previous_scene, ctx.options.render.bvh)), {}};
         fw_.previous_world = PathWorld{store_scene_view(previous_store_, frame.previous_accel->scene_view()),
                                        store_lights_view(previous_store_, lights.view()), frame.previous_accel->ray_epsilon()};
       }

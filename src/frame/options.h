@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "backends/bvh_layout.h"
 #include "core/option_io.h"
 #include "image/tonemap_options.h"
 #include "restir/mis.h"
@@ -60,6 +61,9 @@ template <> struct EnumNames<SamplePattern> {
 template <> struct EnumNames<Backend> {
   static constexpr std::array<std::pair<Backend, const char*>, 3> values{
       {{Backend::cpu, "cpu"}, {Backend::cuda, "cuda"}, {Backend::cpu_bvh, "cpu-bvh"}}};
+};
+template <> struct EnumNames<BvhLayout> {
+  static constexpr std::array<std::pair<BvhLayout, const char*>, 2> values{{{BvhLayout::binary, "binary"}, {BvhLayout::wide, "wide"}}};
 };
 template <> struct EnumNames<PixelFilter> {
   static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
@@ -137,6 +141,7 @@ struct RenderOptions {
   int frames = 1;
   int threads = 0;
   Backend backend = Backend::cpu;
+  BvhLayout bvh = BvhLayout::binary;
   SamplePattern sample_pattern = SamplePattern::halton;
   LightSelection light_selection = LightSelection::power;
   std::string camera_path;
@@ -323,6 +328,10 @@ void visit_options(O& o, V& v) {
     "where the frame is computed: cpu (Embree, all cores), cuda (an NVIDIA GPU: the scene, its BVH and every stage "
     "on the device; builds with -DRESTIR_CUDA=ON; every integrator) or cpu-bvh (the CUDA backend's "
     "code, its own BVH, on the CPU's cores: slower than cpu, for checking the GPU path on a machine without one)");
+  v("render.bvh", o.render.bvh,
+    "the tree the cuda and cpu-bvh backends traverse: binary (two boxes a node, nearer child first) or wide (Ylitie et al. "
+    "2017's compressed 8-wide nodes: quantized boxes, children ordered per ray octant, a compressed stack); the same "
+    "hits either way; cpu uses Embree's own and refuses wide; docs/gpu.md");
   v("render.sample_pattern", o.render.sample_pattern,
     "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "
     "stratified (4x4 strata cycled over frames at 1-8 spp), halton, msaa (Direct3D 8x positions cycled over frames; 16x "

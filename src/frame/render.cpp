@@ -49,9 +49,11 @@ namespace {
 
 // A backend missing from the build or the machine (CUDA) is an option error here, before anything
 // is built.
-void check_backend(Backend backend) {
-  if (backend == Backend::cuda)
+void check_backend(const RenderOptions& r) {
+  if (r.backend == Backend::cuda)
     if (const std::string why = cuda_unavailable_reason(); !why.empty()) throw OptionError("render.backend = cuda: " + why);
+  if (r.backend == Backend::cpu && r.bvh == BvhLayout::wide)
+    throw OptionError("render.bvh = wide: the cpu backend traverses Embree's BVH; wide is the cuda and cpu-bvh backends' tree");
 }
 void draw_progress(int frame, int frames, int done, int total, double elapsed_s) {
   const int width = 30;
@@ -94,7 +96,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Options& o, const Planted
   validate_options(o_);
   limit_ = std::make_unique<ThreadLimit>(o_.render.threads);
   accel_ = std::make_unique<Accel>(scene_);
-  check_backend(o_.render.backend);
+  check_backend(o_.render);
   lights_ = std::make_unique<Lights>(scene_, o_.render.light_selection);
   integrator_ = make_integrator(o_.integrator, context());
   denoiser_ = make_denoiser(o_);
@@ -122,7 +124,7 @@ void FrameRenderer::reset(const Options& o) {
   validate_options(o);
   find_integrator(o.integrator);  // an unknown name throws before anything is replaced
   // The new backend is checked first too: a missing CUDA device throws and leaves everything as it was.
-  check_backend(o.render.backend);
+  check_backend(o.render);
   integrator_.reset();            // it refers to o_ and the lights, replaced below
   const bool new_lights = o.render.light_selection != o_.render.light_selection;
   const bool new_limit = o.render.threads != o_.render.threads;

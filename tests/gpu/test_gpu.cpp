@@ -36,9 +36,9 @@ bool g_dry_run = false;
 bool g_verbose = false;
 int g_seeds = 16;
 Backend gpu_backend() { return g_dry_run ? Backend::cpu_bvh : Backend::cuda; }
-std::unique_ptr<RayQueries> gpu_queries(const Scene& scene) {
-  if (g_dry_run) return std::make_unique<BvhQueries>(scene);
-  return make_cuda_queries(scene);
+std::unique_ptr<RayQueries> gpu_queries(const Scene& scene, BvhLayout layout = BvhLayout::binary) {
+  if (g_dry_run) return std::make_unique<BvhQueries>(scene, layout);
+  return make_cuda_queries(scene, layout);
 }
 
 const std::vector<std::string>& test_scenes() {
@@ -112,13 +112,15 @@ void check_agree(const Image& cpu, const Image& gpu, bool blocks_too = true) {
 
 }  // namespace
 
-TEST_CASE("CUDA ray queries answer as the host traversal of the same BVH") {
+TEST_CASE("CUDA ray queries answer as the host traversal of the same BVH, binary and 8-wide") {
+  for (const BvhLayout layout : {BvhLayout::binary, BvhLayout::wide})
   for (const std::string& path : {shared_scene("cornell-box/scene-v4.pbrt"), own_scene("teapot.pbrt"), own_scene("many-lights.pbrt")}) {
     CAPTURE(path);
+    CAPTURE(int(layout));
     Scene scene = load_scene(path);
     const std::vector<Ray> rays = random_rays(scene, 200000, 3);
-    BvhQueries host(scene);
-    const auto gpu = gpu_queries(scene);
+    BvhQueries host(scene, layout);
+    const auto gpu = gpu_queries(scene, layout);
     std::vector<Hit> a(rays.size()), b(rays.size());
     std::vector<uint8_t> oa(rays.size()), ob(rays.size());
     host.intersect_batch(rays, a);
@@ -371,6 +373,20 @@ TEST_CASE("restir-pt: replay compaction of paired reuse on the CPU and CUDA agre
                                           "path.max_depth=5", "path.russian_roulette=false", "pt.spatial_pairing=paired",
                                           "pt.replay_compaction=true", shift});
     check_agree(frames_stacked(scene, o, g_seeds, Backend::cpu), frames_stacked(scene, o, g_seeds, gpu_backend()));
+  }
+}
+
+// The compressed 8-wide BVH (render.bvh = wide) under whole frames: ReSTIR PT hybrid on the
+// teapots and ReSTIR DI on many-lights (spheres, 2400 emitters) on the device as on the CPU.
+TEST_CASE("render.bvh = wide: restir-pt and restir-di on the CPU and CUDA agree (16 seeds stacked)") {
+  for (const auto& [scene_name, integrator] : {std::pair{"teapot.pbrt", "integrator=restir-pt"}, std::pair{"many-lights.pbrt", "integrator=restir-di"}}) {
+    const std::string name = scene_name;
+    CAPTURE(name);
+    Scene scene = load_scene(own_scene(name));
+    Options o = only_read_keys(options_for(scene, {integrator, "film.width=128", "film.height=96", "render.spp=4", "render.frames=3", "path.max_depth=5"}));
+    const Image cpu = frames_stacked(scene, o, g_seeds, Backend::cpu);
+    o.render.bvh = BvhLayout::wide;
+    check_agree(cpu, frames_stacked(scene, o, g_seeds, gpu_backend()), blocks_comparable(name));
   }
 }
 

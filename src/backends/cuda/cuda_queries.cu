@@ -9,6 +9,7 @@
 
 #include "backends/bvh.h"
 #include "backends/bvh_traverse.h"
+#include "backends/view_upload.h"
 #include "backends/cuda/cuda_queries.h"
 #include "backends/cuda/device_store.cuh"
 
@@ -37,7 +38,7 @@ constexpr uint32_t kBlock = 128;  // threads per block: short traversal stacks, 
 
 class CudaQueries final : public RayQueries {
  public:
-  explicit CudaQueries(const Scene& scene) : scene_(scene) {
+  CudaQueries(const Scene& scene, BvhLayout layout) : scene_(scene), layout_(layout) {
     check(cudaSetDevice(0), "selecting device 0");
     check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "creating a stream");
     upload_bvh();
@@ -81,10 +82,11 @@ class CudaQueries final : public RayQueries {
  private:
   void upload_bvh() {
     bvh_store_.clear();
-    view_ = cuda::upload_bvh(bvh_store_, build_bvh(scene_));
+    view_ = store_bvh_view(bvh_store_, build_bvh(scene_, layout_));
   }
 
   const Scene& scene_;
+  BvhLayout layout_;
   cudaStream_t stream_ = nullptr;
   cuda::DeviceStore bvh_store_;
   BvhView view_;
@@ -114,16 +116,16 @@ std::string cuda_device_description() {
          std::to_string(p.minor) + ", " + std::to_string(p.multiProcessorCount) + " SMs";
 }
 
-std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene) {
+std::unique_ptr<RayQueries> make_cuda_queries(const Scene& scene, BvhLayout layout) {
   if (std::string why = cuda_unavailable_reason(); !why.empty()) throw BackendError(why);
-  return std::make_unique<CudaQueries>(scene);
+  return std::make_unique<CudaQueries>(scene, layout);
 }
 
-CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats) {
+CudaRayTiming cuda_time_rays(const Scene& scene, std::span<const Ray> rays, int repeats, BvhLayout layout) {
   if (std::string why = cuda_unavailable_reason(); !why.empty()) throw BackendError(why);
   check(cudaSetDevice(0), "selecting device 0");
   cuda::DeviceStore store;
-  const BvhView view = cuda::upload_bvh(store, build_bvh(scene));
+  const BvhView view = store_bvh_view(store, build_bvh(scene, layout));
   DeviceArray<Ray> d_rays;
   DeviceArray<Hit> d_hits;
   DeviceArray<uint8_t> d_blocked;

@@ -13,7 +13,7 @@ constexpr const char* kNotBuilt =
 bool cuda_backend_built() { return false; }
 std::string cuda_unavailable_reason() { return kNotBuilt; }
 std::string cuda_device_description() { return kNotBuilt; }
-std::unique_ptr<RayQueries> make_cuda_queries(const Scene&) { throw BackendError(kNotBuilt); }
-CudaRayTiming cuda_time_rays(const Scene&, std::span<const Ray>, int) { throw BackendError(kNotBuilt); }
+std::unique_ptr<RayQueries> make_cuda_queries(const Scene&, BvhLayout) { throw BackendError(kNotBuilt); }
+CudaRayTiming cuda_time_rays(const Scene&, std::span<const Ray>, int, BvhLayout) { throw BackendError(kNotBuilt); }
 
 }  // namespace rl

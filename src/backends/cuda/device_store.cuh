@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "backends/backend_error.h"
-#include "backends/bvh.h"
 
 namespace rl::cuda {
 
@@ -76,11 +75,5 @@ class DeviceStore {
  private:
   std::vector<void*> owned_;
 };
-
-// A device copy of a BVH (owned by `store`) and the view its traversal reads.
-inline BvhView upload_bvh(DeviceStore& store, const Bvh& bvh) {
-  return BvhView{store.upload(bvh.nodes), store.upload(bvh.primitives), uint32_t(bvh.nodes.size()),
-                 uint32_t(bvh.primitives.size()), bvh.sphere_geom};
-}
 
 }  // namespace rl::cuda
