@@ -66,8 +66,13 @@ void measure_restir(const std::string& integrator, const std::string& path, int 
   if (integrator == "restir-pt") o.path.max_depth = pt_depth;
   const FrameTime cpu = frame_ms(scene, o, integrator, Backend::cpu, frames);
   const FrameTime gpu = frame_ms(scene, o, integrator, Backend::cuda, frames);
+  Options on_wide = o;
+  on_wide.render.bvh = BvhLayout::wide;
+  const FrameTime gpu_wide = frame_ms(scene, on_wide, integrator, Backend::cuda, frames);
   fmt::print("{} {}x{} {} spp: {} frame (defaults, depth {}): cpu {:.1f} ms, cuda {:.2f} ms; cpu/cuda {:.1f}x\n",
              path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu.ms, gpu.ms, cpu.ms / gpu.ms);
+  fmt::print("  cuda on the 8-wide BVH (render.bvh = wide): {:.2f} ms; wide/binary {:.3f}; stages: {}\n", gpu_wide.ms, gpu_wide.ms / gpu.ms,
+             gpu_wide.stages);
   fmt::print("  cuda stages: {}\n", gpu.stages);
   fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
   fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
