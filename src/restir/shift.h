@@ -28,4 +28,18 @@ RESTIR_HD inline float reconnection_jacobian(Vec3 x_prev, Vec3 y_prev, Vec3 x_k,
   return moved_reconnection_jacobian(x_prev, x_k, n_k, y_prev, x_k, n_k);
 }
 
+// One path's half of that Jacobian: |cos φ| / |x_k − prev|², the factor turning solid angle at
+// prev into area at x_k (0 when degenerate or not finite). The Jacobian is the offset path's over
+// the base path's, so a sample that keeps its own (ReSTIR PT's rc_geometry) need not keep prev.
+RESTIR_HD inline float reconnection_geometry(Vec3 prev, Vec3 x_k, Vec3 n_k) {
+  const Vec3 to = prev - x_k;
+  const float d2 = length_squared(to);
+  if (!(d2 > 0)) return 0;
+  const float g = std::fabs(dot(n_k, to)) / std::sqrt(d2) / d2;
+  return std::isfinite(g) ? g : 0.0f;
+}
+
+// reconnection_jacobian from the two paths' halves: g_y / g_x (0 when either is 0).
+RESTIR_HD inline float reconnection_jacobian_from(float g_x, float g_y) { return g_x > 0 && g_y > 0 ? g_y / g_x : 0.0f; }
+
 }  // namespace rl::restir

@@ -60,7 +60,8 @@ struct PathSample {
     float rc_tail_light_pdf;    // k >= n - 1: the emitter's NEE density at x_n, to recompute m_t after a shift
   };
   float rc_tail_measure = 0;    // k = n - 1: factor turning a solid-angle pdf at x_k into the emitter's measure
-  Vec3 rc_previous;        // x_{k-1}, for the jacobian
+  float rc_geometry = 0;   // k < n: |cos φ| / |x_k − x_{k-1}|² at x_k, this path's half of the
+                           // reconnection Jacobian (restir/shift.h); x_{k-1} itself is not kept
   float replay_pdf = 1;    // pdf of the replayed part: directions before x_{k-1} (k > 0), or the
                            // whole path including its last vertex (k = 0)
   Rgb contribution{0};     // m_t(x̄) f(x̄) in the domain the sample currently lives in
@@ -70,7 +71,7 @@ using PathReservoir = restir::Reservoir<PathSample>;
 // The sample's identity for the duplication map (reservoir_chain.h): the walk's random stream, which
 // every shift keeps (ReSTIR PT Enhanced, sec. 5: "share the same initial random seed").
 RESTIR_HD inline uint64_t duplicate_key(const PathSample& x) { return mix64(x.seed); }
-static_assert(sizeof(PathReservoir) <= 144, "ReSTIR PT's reservoir outgrew 144 bytes (bench_scaling prints its size)");
+static_assert(sizeof(PathReservoir) <= 136, "ReSTIR PT's reservoir outgrew 136 bytes (bench_scaling prints its size)");
 
 // What a walk and a shift read: the path tracer's settings (path.*), so that restir-pt and its
 // reference render the same integral, and ReSTIR PT's own (pt.*) -- the option structs themselves,

@@ -18,6 +18,7 @@ struct Reconnected {
   Rgb f;
   float mis;
   float jacobian = 1;
+  float geometry = 0;  // x_k a surface: the offset path's half of the Jacobian (its rc_geometry)
 };
 
 // x_k is the emitter vertex x_n: y_{n-1} = pre.v connects to the base path's light point.
@@ -65,8 +66,10 @@ RESTIR_HD bool reconnect_surface(const PathWorld& world, const Tracer& tracer, c
   } else {
     r.mis = base.rc_mis;
   }
-  // Solid angle at x_{k-1} -> at y_{k-1} with x_k fixed (ReSTIR GI eq. 11).
-  r.jacobian = restir::reconnection_jacobian(base.rc_previous, v.p, base.rc_position, base.rc_normal);
+  // Solid angle at x_{k-1} -> at y_{k-1} with x_k fixed (ReSTIR GI eq. 11; Lin et al. 2022 eq. 52):
+  // the offset path's |cos φ_y| / |x_k − y_{k-1}|² over the base path's, which the sample keeps.
+  r.geometry = restir::reconnection_geometry(v.p, base.rc_position, base.rc_normal);
+  r.jacobian = restir::reconnection_jacobian_from(base.rc_geometry, r.geometry);
   return r.jacobian > 0;
 }
 
@@ -114,7 +117,7 @@ RESTIR_HD bool reconnect(const PathWorld& world, const Tracer& tracer, const Pat
   Reconnected r;
   const bool ok = base.rc == base.length ? reconnect_emitter(world, tracer, ps, base, pre, r) : reconnect_surface(world, tracer, ps, base, pre, r);
   if (!ok) return false;
-  out.rc_previous = pre.v.p;
+  out.rc_geometry = r.geometry;
   return shifted(r.f * r.mis, pre.pdf, base.replay_pdf / pre.pdf * r.jacobian, out, jacobian);
 }
 

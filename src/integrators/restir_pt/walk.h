@@ -8,6 +8,7 @@
 #pragma once
 #include "frame/light_tiles.h"
 #include "integrators/restir_pt/path_terms.h"
+#include "restir/shift.h"
 
 namespace rl {
 
@@ -239,7 +240,6 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
     return;
   }
   if (k == n) {
-    s.rc_previous = w.cur.p;
     s.replay_pdf = w.replay_cur;
     s.rc_position = pos;
     s.rc_normal = normal;
@@ -251,7 +251,7 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
     return;
   }
   const RcVertex xk = k == w.found ? w.rc : rc_vertex(w.prev, w.replay_prev, w.cur, t.wi);
-  s.rc_previous = xk.previous;
+  s.rc_geometry = restir::reconnection_geometry(xk.previous, xk.p, xk.ng);
   s.replay_pdf = xk.replay;
   s.rc_position = xk.p;
   s.rc_normal = xk.ng;
