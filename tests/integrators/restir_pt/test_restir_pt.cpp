@@ -208,7 +208,7 @@ TEST_SUITE("restir_pt") {
     }
   }
 
-  TEST_CASE("reconnection jacobian matches finite differences of the direction map") {
+  TEST_CASE("reconnection jacobian matches finite differences of the direction map; its two halves give it too") {
     Pcg32 rng(3);
     for (int t = 0; t < 50; ++t) {
       const Vec3 xk{rng.next_float(), rng.next_float(), rng.next_float()};
@@ -229,7 +229,20 @@ TEST_SUITE("restir_pt") {
       const double analytic = restir::reconnection_jacobian(x_prev, y_prev, xk, nk);
       CAPTURE(t);
       CHECK(fd == doctest::Approx(analytic).epsilon(0.01).scale(1e-9));
+      // ReSTIR PT's form (the sample keeps its own path's half, rc_geometry): the same Jacobian.
+      const float from_halves = restir::reconnection_jacobian_from(restir::reconnection_geometry(x_prev, xk, nk),
+                                                                   restir::reconnection_geometry(y_prev, xk, nk));
+      CHECK(from_halves == doctest::Approx(analytic).epsilon(1e-5).scale(1e-9));
     }
+    // Degenerate halves (a vertex on x_k, a segment in x_k's tangent plane, a distance whose factor
+    // overflows) are 0, and a Jacobian with a 0 half is 0: the shift fails rather than divide.
+    const Vec3 xk(0.5f), nk(0, 0, 1);
+    CHECK(restir::reconnection_geometry(xk, xk, nk) == 0);
+    CHECK(restir::reconnection_geometry(xk + Vec3(1, 0, 0), xk, nk) == 0);
+    CHECK(restir::reconnection_geometry(xk + Vec3(0, 0, 1e-20f), xk, nk) == 0);
+    CHECK(restir::reconnection_geometry(xk + Vec3(0, 0, 2), xk, nk) == doctest::Approx(0.25));
+    CHECK(restir::reconnection_jacobian_from(0, 1) == 0);
+    CHECK(restir::reconnection_jacobian_from(1, 0) == 0);
   }
 
   TEST_CASE("shifts: identity on the own pixel, invertible with reciprocal jacobians (rough Cornell box)") {
