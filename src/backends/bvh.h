@@ -21,7 +21,8 @@
 
 namespace rl {
 
-struct BvhNode {
+// 16-byte aligned: a GPU thread loads a node in four 128-bit loads (the traversal copies it whole).
+struct alignas(16) BvhNode {
   Vec3 lo[2], hi[2];   // the children's boxes
   uint32_t child[2];   // inner child: node index; leaf child: first primitive
   uint32_t count[2];   // 0: inner node (or no child when child == kBvhNone); > 0: leaf of count primitives

@@ -22,7 +22,8 @@
 
 namespace rl {
 
-struct WideBvhNode {
+// 16-byte aligned: a GPU thread loads a node in five 128-bit loads (wide_bvh_trace copies it whole).
+struct alignas(16) WideBvhNode {
   Vec3 origin;              // p: the grid's corner (the node's box's lower corner)
   int8_t exponent[3];       // e: the grid step on each axis is 2^e
   uint8_t inner_mask;       // imask: bit s set when slot s holds an inner node
