@@ -78,6 +78,10 @@ void measure_restir(const std::string& integrator, const std::string& path, int 
   fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);
   fmt::print("  buffers per pixel: cpu {:.0f} B, cuda {:.0f} B (G-buffer surface {} B packed, {} B unpacked; DI reservoir {} B, PT reservoir {} B)\n",
              cpu.bytes_px, gpu.bytes_px, sizeof(GPacked), sizeof(GSurface), sizeof(DiReservoir), sizeof(PathReservoir));
+  const size_t reservoir = integrator == "restir-pt" ? sizeof(PathReservoir) : integrator == "restir-di" ? sizeof(DiReservoir) : 0;
+  if (reservoir > 0)  // issue 48's targets: this frame's and the history's G-buffer surfaces and reservoirs
+    fmt::print("  persistent state per pixel: 2 x {} + 2 x {} = {} B (target {} B)\n", sizeof(GPacked), reservoir,
+               2 * (sizeof(GPacked) + reservoir), integrator == "restir-pt" ? 320 : 160);
 }
 
 }  // namespace

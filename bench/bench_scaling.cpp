@@ -113,6 +113,11 @@ void pixel_and_thread_scaling(const Scene& scene, int frames, int rounds) {
   fmt::print("\nReSTIR state per pixel: restir-di {} bytes (reservoir {} x 3, G-buffer surface {} x 2 + emission {}, debug {}); "
              "restir-pt {} bytes (reservoir {} x 3, the same surfaces and debug); an animated scene adds {} x 2 of motion\n",
              3 * di + surface + debug, di, sizeof(GPacked), sizeof(Rgb), debug, 3 * pt + surface + debug, pt, sizeof(GMotion));
+  // Issue 48's compact-state targets count what lives from one frame to the next: this frame's and
+  // the history's G-buffer surfaces and reservoirs.
+  fmt::print("persistent state per pixel: restir-di 2 x {} + 2 x {} = {} bytes (issue 48's target 160), restir-pt 2 x {} + 2 x {} = {} "
+             "bytes (target 320)\n",
+             sizeof(GPacked), di, 2 * sizeof(GPacked) + 2 * di, sizeof(GPacked), pt, 2 * sizeof(GPacked) + 2 * pt);
 }
 }  // namespace
 
