@@ -111,19 +111,28 @@ RESTIR_HD inline uint32_t wide_bvh_popcount(uint32_t x) {
 
 // The children of node n the ray enters within [tmin, tmax], as a hit mask (wide_bvh.h). The ray
 // is moved onto the node's grid once (the paper's §4: a plane q 2^e + p is crossed at
-// t = q (2^e / d) + (p - o) / d), so a child's six planes cost a multiply-add each.
+// t = q (2^e / d) + (p - o) / d), so a child's six planes cost a multiply-add each; and since
+// q -> q (2^e / d) + (p - o) / d is monotone in float arithmetic too, the near plane of each axis
+// is the low one where d >= 0 and the high one where d < 0 -- no min and max to sort them, the
+// same t's as sorting would give.
 RESTIR_HD inline uint32_t wide_bvh_node_hits(const WideBvhNode& n, const Ray& ray, Vec3 inv_d, float tmin, float tmax, uint32_t oct_inv) {
   const Vec3 scale{wide_bvh_step(n.exponent[0]) * inv_d.x, wide_bvh_step(n.exponent[1]) * inv_d.y, wide_bvh_step(n.exponent[2]) * inv_d.z};
   const Vec3 shift{(n.origin.x - ray.o.x) * inv_d.x, (n.origin.y - ray.o.y) * inv_d.y, (n.origin.z - ray.o.z) * inv_d.z};
+  // oct_inv's bits are set where inv_d > 0 (x: 4, y: 2, z: 1).
+  const uint8_t* near_x = oct_inv & 4u ? n.lo[0] : n.hi[0];
+  const uint8_t* far_x = oct_inv & 4u ? n.hi[0] : n.lo[0];
+  const uint8_t* near_y = oct_inv & 2u ? n.lo[1] : n.hi[1];
+  const uint8_t* far_y = oct_inv & 2u ? n.hi[1] : n.lo[1];
+  const uint8_t* near_z = oct_inv & 1u ? n.lo[2] : n.hi[2];
+  const uint8_t* far_z = oct_inv & 1u ? n.hi[2] : n.lo[2];
   uint32_t hits = 0;
   for (uint32_t s = 0; s < uint32_t(kWideBvhWidth); ++s) {
     const uint32_t meta = n.meta[s];
     if (meta == 0) continue;
-    const float tx0 = float(n.lo[0][s]) * scale.x + shift.x, tx1 = float(n.hi[0][s]) * scale.x + shift.x;
-    const float ty0 = float(n.lo[1][s]) * scale.y + shift.y, ty1 = float(n.hi[1][s]) * scale.y + shift.y;
-    const float tz0 = float(n.lo[2][s]) * scale.z + shift.z, tz1 = float(n.hi[2][s]) * scale.z + shift.z;
-    const float t0 = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), tmin));
-    const float t1 = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fminf(fmaxf(tz0, tz1), tmax));
+    const float t0 = fmaxf(fmaxf(float(near_x[s]) * scale.x + shift.x, float(near_y[s]) * scale.y + shift.y),
+                           fmaxf(float(near_z[s]) * scale.z + shift.z, tmin));
+    const float t1 = fminf(fminf(float(far_x[s]) * scale.x + shift.x, float(far_y[s]) * scale.y + shift.y),
+                           fminf(float(far_z[s]) * scale.z + shift.z, tmax));
     if (!(t0 <= t1 * 1.00000024f)) continue;
     // Inner: one bit at 24 + (s ^ oct_inv); leaf: its primitives' bits from its offset.
     const uint32_t bit = (meta & 31u) ^ ((n.inner_mask >> s) & 1u ? oct_inv : 0u);
@@ -134,7 +143,9 @@ RESTIR_HD inline uint32_t wide_bvh_node_hits(const WideBvhNode& n, const Ray& ra
 
 RESTIR_HD inline bool wide_bvh_trace(const BvhView& bvh, const Ray& ray, bool any_hit, Hit* hit) {
   const Vec3 inv_d = bvh_inverse_direction(ray.d);
-  const uint32_t oct_inv = 7u - ((ray.d.x < 0 ? 4u : 0u) | (ray.d.y < 0 ? 2u : 0u) | (ray.d.z < 0 ? 1u : 0u));
+  // The octant by inv_d's signs, not d's: a -0 component has inv_d = -1e30 (bvh_inverse_direction),
+  // and wide_bvh_node_hits picks each axis' near plane by this sign.
+  const uint32_t oct_inv = 7u - ((inv_d.x < 0 ? 4u : 0u) | (inv_d.y < 0 ? 2u : 0u) | (inv_d.z < 0 ? 1u : 0u));
   const float tmin = ray.tmin;
   float tmax = ray.tmax;
   bool found = false;

@@ -222,6 +222,13 @@ TEST_SUITE("bvh") {
       d[int(i % 3)] = (i / 3) % 2 ? 1.0f : -1.0f;
       rays[i].d = d;
     }
+    // The same with negative zeros (-0's inverse is -1e30: the near plane must follow its sign).
+    for (size_t i = 0; i < 6000; ++i) {
+      Ray r = rays[i];
+      for (int c = 0; c < 3; ++c)
+        if (r.d[c] == 0) r.d[c] = -0.0f;
+      rays.push_back(r);
+    }
     for (size_t i = 0; i < scene.spheres.size() && i < 200; ++i) rays.push_back(Ray{scene.spheres[i].center, normalize(Vec3(0.3f, -1, 0.2f)), 0, kInfinity});
     const BvhQueries wide(scene, BvhLayout::wide), binary(scene, BvhLayout::binary);
     const Agreement g = compare(binary, wide, rays, true);
