@@ -11,12 +11,20 @@ namespace rl {
 
 // Ray-box slab test against [tmin, tmax]; inv_d = 1 / d with zeros replaced by a huge value of the
 // same sign, so that an axis-parallel ray is tested against the slab it lies in, never NaN.
+// min and max of slab distances, which are never NaN (a queryable ray's origin and t range are
+// finite, 1/d is finite and nonzero): plain comparisons, which compile to one instruction on the
+// host too, where fminf / fmaxf keep their NaN rules in a library call.
+RESTIR_HD inline float bvh_min(float a, float b) { return a < b ? a : b; }
+RESTIR_HD inline float bvh_max(float a, float b) { return a > b ? a : b; }
+
+// (x - o) / d rounds monotonically in x, so each axis' near face is lo where 1/d > 0 and hi where it
+// is < 0: the same t's that sorting the two faces' would give, without six more min/max.
 RESTIR_HD inline bool bvh_box_hit(Vec3 lo, Vec3 hi, Vec3 o, Vec3 inv_d, float tmin, float tmax, float& t_enter) {
-  float tx0 = (lo.x - o.x) * inv_d.x, tx1 = (hi.x - o.x) * inv_d.x;
-  float ty0 = (lo.y - o.y) * inv_d.y, ty1 = (hi.y - o.y) * inv_d.y;
-  float tz0 = (lo.z - o.z) * inv_d.z, tz1 = (hi.z - o.z) * inv_d.z;
-  float t0 = fmaxf(fmaxf(fminf(tx0, tx1), fminf(ty0, ty1)), fmaxf(fminf(tz0, tz1), tmin));
-  float t1 = fminf(fminf(fmaxf(tx0, tx1), fmaxf(ty0, ty1)), fminf(fmaxf(tz0, tz1), tmax));
+  const bool px = inv_d.x >= 0, py = inv_d.y >= 0, pz = inv_d.z >= 0;
+  const float t0 = bvh_max(bvh_max(((px ? lo.x : hi.x) - o.x) * inv_d.x, ((py ? lo.y : hi.y) - o.y) * inv_d.y),
+                           bvh_max(((pz ? lo.z : hi.z) - o.z) * inv_d.z, tmin));
+  const float t1 = bvh_min(bvh_min(((px ? hi.x : lo.x) - o.x) * inv_d.x, ((py ? hi.y : lo.y) - o.y) * inv_d.y),
+                           bvh_min(((pz ? hi.z : lo.z) - o.z) * inv_d.z, tmax));
   // Robust BVH traversal (Ize 2013): widen the exit by 2 ulp-ish so that rounding in the slab
   // distances cannot make a ray that grazes a box's face miss a primitive lying on that face.
   t_enter = t0;
@@ -129,10 +137,10 @@ RESTIR_HD inline uint32_t wide_bvh_node_hits(const WideBvhNode& n, const Ray& ra
   for (uint32_t s = 0; s < uint32_t(kWideBvhWidth); ++s) {
     const uint32_t meta = n.meta[s];
     if (meta == 0) continue;
-    const float t0 = fmaxf(fmaxf(float(near_x[s]) * scale.x + shift.x, float(near_y[s]) * scale.y + shift.y),
-                           fmaxf(float(near_z[s]) * scale.z + shift.z, tmin));
-    const float t1 = fminf(fminf(float(far_x[s]) * scale.x + shift.x, float(far_y[s]) * scale.y + shift.y),
-                           fminf(float(far_z[s]) * scale.z + shift.z, tmax));
+    const float t0 = bvh_max(bvh_max(float(near_x[s]) * scale.x + shift.x, float(near_y[s]) * scale.y + shift.y),
+                             bvh_max(float(near_z[s]) * scale.z + shift.z, tmin));
+    const float t1 = bvh_min(bvh_min(float(far_x[s]) * scale.x + shift.x, float(far_y[s]) * scale.y + shift.y),
+                             bvh_min(float(far_z[s]) * scale.z + shift.z, tmax));
     if (!(t0 <= t1 * 1.00000024f)) continue;
     // Inner: one bit at 24 + (s ^ oct_inv); leaf: its primitives' bits from its offset.
     const uint32_t bit = (meta & 31u) ^ ((n.inner_mask >> s) & 1u ? oct_inv : 0u);
