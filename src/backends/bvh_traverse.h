@@ -121,26 +121,24 @@ RESTIR_HD inline uint32_t wide_bvh_popcount(uint32_t x) {
 // is moved onto the node's grid once (the paper's §4: a plane q 2^e + p is crossed at
 // t = q (2^e / d) + (p - o) / d), so a child's six planes cost a multiply-add each; and since
 // q -> q (2^e / d) + (p - o) / d is monotone in float arithmetic too, the near plane of each axis
-// is the low one where d >= 0 and the high one where d < 0 -- no min and max to sort them, the
+// is the low one where 1/d > 0 and the high one where 1/d < 0 -- no min and max to sort them, the
 // same t's as sorting would give.
 RESTIR_HD inline uint32_t wide_bvh_node_hits(const WideBvhNode& n, const Ray& ray, Vec3 inv_d, float tmin, float tmax, uint32_t oct_inv) {
   const Vec3 scale{wide_bvh_step(n.exponent[0]) * inv_d.x, wide_bvh_step(n.exponent[1]) * inv_d.y, wide_bvh_step(n.exponent[2]) * inv_d.z};
   const Vec3 shift{(n.origin.x - ray.o.x) * inv_d.x, (n.origin.y - ray.o.y) * inv_d.y, (n.origin.z - ray.o.z) * inv_d.z};
-  // oct_inv's bits are set where inv_d > 0 (x: 4, y: 2, z: 1).
-  const uint8_t* near_x = oct_inv & 4u ? n.lo[0] : n.hi[0];
-  const uint8_t* far_x = oct_inv & 4u ? n.hi[0] : n.lo[0];
-  const uint8_t* near_y = oct_inv & 2u ? n.lo[1] : n.hi[1];
-  const uint8_t* far_y = oct_inv & 2u ? n.hi[1] : n.lo[1];
-  const uint8_t* near_z = oct_inv & 1u ? n.lo[2] : n.hi[2];
-  const uint8_t* far_z = oct_inv & 1u ? n.hi[2] : n.lo[2];
+  // oct_inv's bits are set where inv_d > 0 (x: 4, y: 2, z: 1). The faces are chosen by value, not
+  // through a pointer to n.lo or n.hi: an indexed pointer would put the node in a GPU thread's
+  // local memory instead of its registers (the PTX's local loads and stores went 32 -> 138).
+  const bool px = oct_inv & 4u, py = oct_inv & 2u, pz = oct_inv & 1u;
   uint32_t hits = 0;
   for (uint32_t s = 0; s < uint32_t(kWideBvhWidth); ++s) {
     const uint32_t meta = n.meta[s];
     if (meta == 0) continue;
-    const float t0 = bvh_max(bvh_max(float(near_x[s]) * scale.x + shift.x, float(near_y[s]) * scale.y + shift.y),
-                             bvh_max(float(near_z[s]) * scale.z + shift.z, tmin));
-    const float t1 = bvh_min(bvh_min(float(far_x[s]) * scale.x + shift.x, float(far_y[s]) * scale.y + shift.y),
-                             bvh_min(float(far_z[s]) * scale.z + shift.z, tmax));
+    const float qnx = px ? n.lo[0][s] : n.hi[0][s], qfx = px ? n.hi[0][s] : n.lo[0][s];
+    const float qny = py ? n.lo[1][s] : n.hi[1][s], qfy = py ? n.hi[1][s] : n.lo[1][s];
+    const float qnz = pz ? n.lo[2][s] : n.hi[2][s], qfz = pz ? n.hi[2][s] : n.lo[2][s];
+    const float t0 = bvh_max(bvh_max(qnx * scale.x + shift.x, qny * scale.y + shift.y), bvh_max(qnz * scale.z + shift.z, tmin));
+    const float t1 = bvh_min(bvh_min(qfx * scale.x + shift.x, qfy * scale.y + shift.y), bvh_min(qfz * scale.z + shift.z, tmax));
     if (!(t0 <= t1 * 1.00000024f)) continue;
     // Inner: one bit at 24 + (s ^ oct_inv); leaf: its primitives' bits from its offset.
     const uint32_t bit = (meta & 31u) ^ ((n.inner_mask >> s) & 1u ? oct_inv : 0u);
