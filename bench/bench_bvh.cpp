@@ -55,10 +55,7 @@ void measure(const std::string& what, const Scene& scene, const std::vector<Ray>
 int main(int argc, char** argv) {
   CLI::App app{"the binary vs the compressed 8-wide BVH, traversed on the CPU: rays/s on the same rays"};
   int width = 640, height = 360, spp = 1, rounds = 5;
-  std::vector<std::string> scenes = {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot-field.pbrt"};
+  std::vector<std::string> scenes = bench::scenes_by_size();
   app.add_option("--width", width);
   app.add_option("--height", height);
   app.add_option("--spp", spp);

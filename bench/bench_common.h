@@ -107,6 +107,13 @@ inline void print_ray_share(const std::string& what, const RayShare& r) {
              r.frame_ms - r.embree_ms);
 }
 
+// Scenes from small to large (bench_scaling, bench_bvh): the Cornell box (30 triangles), the
+// teapots, many-lights (spheres, 2400 emitters) and the 1.09 M-triangle, 10,000-emitter teapot field.
+inline std::vector<std::string> scenes_by_size() {
+  return {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt", std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt",
+          std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt", std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot-field.pbrt"};
+}
+
 // Every ray one frame of the reference path tracer traces (closest-hit rays, shadow rays).
 inline void record_rays(const RenderContext& ctx, const PerspectiveCamera& cam, std::vector<Ray>& rays, std::vector<Ray>& shadow) {
   const Options& o = ctx.options;

@@ -124,10 +124,7 @@ void pixel_and_thread_scaling(const Scene& scene, int frames, int rounds) {
 int main(int argc, char** argv) {
   CLI::App app{"scaling with scene size: builds and frame times"};
   int width = 640, height = 360, frames = 4, rounds = 3;
-  std::vector<std::string> scenes = {std::string(RESTIR_SHARED_DIR) + "/scenes/cornell-box/scene-v4.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/many-lights.pbrt",
-                                     std::string(RESTIR_SOURCE_DIR) + "/scenes/teapot-field.pbrt"};
+  std::vector<std::string> scenes = bench::scenes_by_size();
   app.add_option("--width", width);
   app.add_option("--height", height);
   app.add_option("--frames", frames, "frames per integrator (the median after the first is reported)");

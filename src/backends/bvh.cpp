@@ -42,10 +42,10 @@ void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims,
   return n;
 }
 
-RTCBuildPrimitive bounds_of(Vec3 lo, Vec3 hi, unsigned index) {
+RTCBuildPrimitive build_primitive(const Bounds3& b, unsigned index) {
   RTCBuildPrimitive p;
-  p.lower_x = lo.x, p.lower_y = lo.y, p.lower_z = lo.z, p.geomID = 0;
-  p.upper_x = hi.x, p.upper_y = hi.y, p.upper_z = hi.z, p.primID = index;
+  p.lower_x = b.lo.x, p.lower_y = b.lo.y, p.lower_z = b.lo.z, p.geomID = 0;
+  p.upper_x = b.hi.x, p.upper_y = b.hi.y, p.upper_z = b.hi.z, p.primID = index;
   return p;
 }
 
@@ -87,7 +87,7 @@ Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
       BvhPrimitive p;
       p.a = m.positions[m.indices[3 * t]], p.b = m.positions[m.indices[3 * t + 1]], p.c = m.positions[m.indices[3 * t + 2]];
       p.geom = mi, p.prim = t;
-      refs.push_back(bounds_of(min(p.a, min(p.b, p.c)), max(p.a, max(p.b, p.c)), unsigned(prims.size())));
+      refs.push_back(build_primitive(primitive_bounds(p, sphere_geom), unsigned(prims.size())));
       prims.push_back(p);
     }
   }
@@ -96,7 +96,7 @@ Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
     BvhPrimitive p;
     p.a = s.center, p.b = Vec3(s.radius, 0, 0);
     p.geom = sphere_geom, p.prim = si;
-    refs.push_back(bounds_of(s.center - Vec3(s.radius), s.center + Vec3(s.radius), unsigned(prims.size())));
+    refs.push_back(build_primitive(primitive_bounds(p, sphere_geom), unsigned(prims.size())));
     prims.push_back(p);
   }
   return r;
@@ -104,10 +104,7 @@ Primitives gather_primitives(const Scene& scene, uint32_t sphere_geom) {
 
 Bounds3 bounds_of(const std::vector<BvhPrimitive>& prims, uint32_t sphere_geom) {
   Bounds3 b;
-  for (const BvhPrimitive& p : prims) {
-    if (p.geom == sphere_geom) b.extend(p.a - Vec3(p.b.x)), b.extend(p.a + Vec3(p.b.x));
-    else b.extend(p.a), b.extend(p.b), b.extend(p.c);
-  }
+  for (const BvhPrimitive& p : prims) b.extend(primitive_bounds(p, sphere_geom));
   return b;
 }
 

@@ -39,6 +39,12 @@ struct BvhPrimitive {
 };
 static_assert(sizeof(BvhPrimitive) == 48);
 
+// The exact box of a primitive (sphere_geom: the geom id that marks spheres).
+inline Bounds3 primitive_bounds(const BvhPrimitive& p, uint32_t sphere_geom) {
+  if (p.geom == sphere_geom) return {p.a - Vec3(p.b.x), p.a + Vec3(p.b.x)};
+  return {min(p.a, min(p.b, p.c)), max(p.a, max(p.b, p.c))};
+}
+
 // What a traversal sees: pointers into host or device memory (trivially copyable). One of nodes
 // and wide_nodes is set (the tree's layout), or neither for an empty scene.
 struct BvhView {

@@ -13,6 +13,7 @@
 #include "frame/render.h"
 #include "backends/cpu/accel.h"
 #include "scene/lights.h"
+#include "query_agreement.h"
 #include "random_rays.h"
 #include "test_helpers.h"
 
@@ -21,38 +22,20 @@ using namespace rl::test;
 
 namespace {
 
-struct Agreement {
-  size_t rays = 0, hits = 0, hit_mismatch = 0, t_mismatch = 0, occluded_mismatch = 0;
-};
+using Agreement = QueryAgreement;
 
 // Compares BvhQueries with Embree (Accel) on the rays: the same hit or miss, the same primitive
 // (or, at a shared edge, another one at the same distance), t within a relative 1e-4.
 Agreement compare(const Scene& scene, const std::vector<Ray>& rays) {
   Accel accel(scene);
   BvhQueries bvh(scene);
-  std::vector<Hit> a(rays.size()), b(rays.size());
-  std::vector<uint8_t> oa(rays.size()), ob(rays.size());
-  accel.intersect_batch(rays, a);
-  bvh.intersect_batch(rays, b);
-  accel.occluded_batch(rays, oa);
-  bvh.occluded_batch(rays, ob);
-  Agreement g;
-  g.rays = rays.size();
-  for (size_t i = 0; i < rays.size(); ++i) {
-    g.hits += a[i].valid();
-    g.occluded_mismatch += oa[i] != ob[i];
-    if (a[i].valid() != b[i].valid()) {
-      ++g.hit_mismatch;
-      continue;
-    }
-    if (!a[i].valid()) continue;
-    const bool t_close = std::fabs(a[i].t - b[i].t) <= 1e-4f * std::max(1.0f, a[i].t);
+  return compare_queries(accel, bvh, rays, [&](size_t, const Hit& a, const Hit& b, Agreement& g) {
+    const bool t_close = std::fabs(a.t - b.t) <= 1e-4f * std::max(1.0f, a.t);
     if (!t_close) ++g.t_mismatch;
-    else if (a[i].geom == b[i].geom && a[i].prim == b[i].prim && a[i].geom != bvh.bvh().sphere_geom &&
-             (std::fabs(a[i].u - b[i].u) > 1e-3f || std::fabs(a[i].v - b[i].v) > 1e-3f))
+    else if (a.geom == b.geom && a.prim == b.prim && a.geom != bvh.bvh().sphere_geom &&
+             (std::fabs(a.u - b.u) > 1e-3f || std::fabs(a.v - b.v) > 1e-3f))
       ++g.t_mismatch;  // same triangle, other barycentrics: as wrong as another distance
-  }
-  return g;
+  });
 }
 
 }  // namespace

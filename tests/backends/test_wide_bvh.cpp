@@ -13,6 +13,7 @@
 #include "backends/bvh_traverse.h"
 #include "backends/cpu/accel.h"
 #include "frame/render.h"
+#include "query_agreement.h"
 #include "random_rays.h"
 #include "test_helpers.h"
 
@@ -34,12 +35,6 @@ Box decoded(const WideBvhNode& n, int s) {
     b.hi[a] = wide_bvh_decode(p, step, n.hi[a][s]);
   }
   return b;
-}
-
-// The exact box of a primitive.
-Box primitive_box(const BvhPrimitive& p, uint32_t sphere_geom) {
-  if (p.geom == sphere_geom) return {p.a - Vec3(p.b.x), p.a + Vec3(p.b.x)};
-  return {min(p.a, min(p.b, p.c)), max(p.a, max(p.b, p.c))};
 }
 
 // Walks the tree from `node`: every slot's decoded box holds what lies below it (checked against
@@ -82,7 +77,7 @@ struct TreeCheck {
             continue;
           }
           ++seen[p];
-          const Box b = primitive_box(bvh.primitives[p], bvh.sphere_geom);
+          const Bounds3 b = primitive_bounds(bvh.primitives[p], bvh.sphere_geom);
           exact.lo = min(exact.lo, b.lo), exact.hi = max(exact.hi, b.hi);
         }
       }
@@ -98,9 +93,7 @@ struct TreeCheck {
   }
 };
 
-struct Agreement {
-  size_t rays = 0, hits = 0, hit_mismatch = 0, t_mismatch = 0, ties = 0, occluded_mismatch = 0;
-};
+using Agreement = QueryAgreement;
 
 // Does the ray hit the scene primitive (geom, prim) of the tree at exactly distance t?
 bool hits_at(const Bvh& bvh, const Ray& ray, const Hit& h) {
@@ -120,36 +113,20 @@ bool hits_at(const Bvh& bvh, const Ray& ray, const Hit& h) {
 // (the Cornell box's and many-lights' overlapping quads), where which one a float box test
 // lets through first decides.
 Agreement compare(const RayQueries& reference, const BvhQueries& wide, const std::vector<Ray>& rays, bool exact_t) {
-  std::vector<Hit> a(rays.size()), b(rays.size());
-  std::vector<uint8_t> oa(rays.size()), ob(rays.size());
-  reference.intersect_batch(rays, a);
-  wide.intersect_batch(rays, b);
-  reference.occluded_batch(rays, oa);
-  wide.occluded_batch(rays, ob);
-  Agreement g;
-  g.rays = rays.size();
-  for (size_t i = 0; i < rays.size(); ++i) {
-    g.hits += a[i].valid();
-    g.occluded_mismatch += oa[i] != ob[i];
-    if (a[i].valid() != b[i].valid()) {
-      ++g.hit_mismatch;
-      continue;
-    }
-    if (!a[i].valid()) continue;
-    const bool same_primitive = a[i].geom == b[i].geom && a[i].prim == b[i].prim;
-    const float tolerance = exact_t && same_primitive ? 0.0f : (exact_t ? 1e-6f : 1e-4f) * std::max(1.0f, a[i].t);
-    const bool same_t = std::fabs(a[i].t - b[i].t) <= tolerance;
+  return compare_queries(reference, wide, rays, [&](size_t i, const Hit& a, const Hit& b, Agreement& g) {
+    const bool same_primitive = a.geom == b.geom && a.prim == b.prim;
+    const float tolerance = exact_t && same_primitive ? 0.0f : (exact_t ? 1e-6f : 1e-4f) * std::max(1.0f, a.t);
+    const bool same_t = std::fabs(a.t - b.t) <= tolerance;
     if (!same_t) {
       ++g.t_mismatch;
     } else if (same_primitive) {
-      g.t_mismatch += exact_t && (a[i].u != b[i].u || a[i].v != b[i].v);  // the same test: the same barycentrics
-    } else if (hits_at(wide.bvh(), rays[i], b[i])) {
+      g.t_mismatch += exact_t && (a.u != b.u || a.v != b.v);  // the same test: the same barycentrics
+    } else if (hits_at(wide.bvh(), rays[i], b)) {
       ++g.ties;
     } else {
       ++g.t_mismatch;
     }
-  }
-  return g;
+  });
 }
 
 const char* kScenes[] = {"cornell-box/scene-v4.pbrt", "veach-mis/scene-v4.pbrt", "teapot.pbrt", "many-lights.pbrt", "mirror-glass.pbrt", "teapot-field.pbrt"};
