@@ -63,6 +63,7 @@ struct SurfaceInteraction {
   int material = 0;
   bool is_sphere = false;
   uint32_t geom = kInvalidId, prim = kInvalidId;
+  Vec2 barycentrics;  // of vertices 1 and 2 (triangles): with geom and prim, what rebuilds the rest (surface_at)
 };
 
 // The host tables behind a SceneView of `scene` (its arrays are pointed to, not copied).
@@ -121,35 +122,43 @@ RESTIR_HD inline Rgb material_reflectance(const SceneView& s, const MaterialPara
   return eval_texture(t.params, t.image, uv);
 }
 
-// The hit point of `ray` (its closest hit `hit`) as shading sees it.
-RESTIR_HD inline SurfaceInteraction surface_interaction(const SceneView& scene, const Ray& ray, const Hit& hit) {
+// A point p on sphere `prim` as shading sees it. The normal is p's own direction from the centre
+// (not the ray's hit before surface_interaction projected it onto the sphere), so that the point
+// alone rebuilds the same bits (surface_at: ReSTIR PT's reconnection vertex keeps only the point).
+RESTIR_HD inline SurfaceInteraction sphere_surface(const SceneView& scene, uint32_t prim, Vec3 p) {
   SurfaceInteraction si;
-  si.geom = hit.geom;
-  si.prim = hit.prim;
-  if (hit.geom == scene.sphere_geom()) {
-    const SphereView& s = scene.spheres[hit.prim];
-    const Vec3 p = ray.o + ray.d * hit.t;
-    const Vec3 n = normalize(p - s.center);
-    si.p = s.center + n * s.radius;  // re-project onto the surface to cut the hit's float error
-    si.ng = s.flip_normal ? -n : n;
-    si.ns = si.ng;
-    // pbrt's sphere (u, v): phi / 2pi and theta from the z axis; only textured spheres need it
-    // (the trigonometry is a measurable share of a frame on sphere-lit scenes).
-    if (scene.materials[s.material].reflectance_texture >= 0) {
-      float phi = std::atan2(n.y, n.x);
-      if (phi < 0) phi += 2 * kPi;
-      si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
-    }
-    si.material = s.material;
-    si.is_sphere = true;
-    return si;
+  si.geom = scene.sphere_geom();
+  si.prim = prim;
+  const SphereView& s = scene.spheres[prim];
+  const Vec3 n = normalize(p - s.center);
+  si.p = p;
+  si.ng = s.flip_normal ? -n : n;
+  si.ns = si.ng;
+  // pbrt's sphere (u, v): phi / 2pi and theta from the z axis; only textured spheres need it
+  // (the trigonometry is a measurable share of a frame on sphere-lit scenes).
+  if (scene.materials[s.material].reflectance_texture >= 0) {
+    float phi = std::atan2(n.y, n.x);
+    if (phi < 0) phi += 2 * kPi;
+    si.uv = {phi * kInv2Pi, std::acos(clamp(n.z, -1.0f, 1.0f)) * kInvPi};
   }
-  const MeshView& m = scene.meshes[hit.geom];
-  const uint32_t i0 = m.indices[3 * hit.prim], i1 = m.indices[3 * hit.prim + 1], i2 = m.indices[3 * hit.prim + 2];
-  const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
+  si.material = s.material;
+  si.is_sphere = true;
+  return si;
+}
+
+// Triangle `prim` of mesh `geom` at barycentrics (b1, b2) as shading sees it; a degenerate
+// triangle (no normal) gets `fallback` as its geometric normal.
+RESTIR_HD inline SurfaceInteraction triangle_surface(const SceneView& scene, uint32_t geom, uint32_t prim, Vec2 b, Vec3 fallback) {
+  SurfaceInteraction si;
+  si.geom = geom;
+  si.prim = prim;
+  si.barycentrics = b;
+  const MeshView& m = scene.meshes[geom];
+  const uint32_t i0 = m.indices[3 * prim], i1 = m.indices[3 * prim + 1], i2 = m.indices[3 * prim + 2];
+  const float b1 = b.x, b2 = b.y, b0 = 1 - b1 - b2;
   si.p = m.positions[i0] * b0 + m.positions[i1] * b1 + m.positions[i2] * b2;
-  Vec3 ng = triangle_normal(m.positions, m.normals, m.indices, m.flip_normal, hit.prim);
-  if (is_black(ng)) ng = -ray.d;  // degenerate triangle: any consistent normal
+  Vec3 ng = triangle_normal(m.positions, m.normals, m.indices, m.flip_normal, prim);
+  if (is_black(ng)) ng = fallback;
   si.ng = ng;
   if (m.normals) {
     const Vec3 ns = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
@@ -161,6 +170,29 @@ RESTIR_HD inline SurfaceInteraction surface_interaction(const SceneView& scene, 
   si.uv = m.uvs ? m.uvs[i0] * b0 + m.uvs[i1] * b1 + m.uvs[i2] * b2 : Vec2{b1, b2};
   si.material = m.material;
   return si;
+}
+
+// The hit point of `ray` (its closest hit `hit`) as shading sees it.
+RESTIR_HD inline SurfaceInteraction surface_interaction(const SceneView& scene, const Ray& ray, const Hit& hit) {
+  if (hit.geom == scene.sphere_geom()) {
+    const SphereView& s = scene.spheres[hit.prim];
+    const Vec3 n = normalize(ray.o + ray.d * hit.t - s.center);
+    return sphere_surface(scene, hit.prim, s.center + n * s.radius);  // projected onto the surface to cut the hit's float error
+  }
+  return triangle_surface(scene, hit.geom, hit.prim, Vec2{hit.u, hit.v}, -ray.d);  // degenerate: any consistent normal
+}
+
+// A surface point again from what identifies it -- its geometry, primitive, barycentrics (a
+// triangle) and point (a sphere) -- with the bits surface_interaction gave the hit that found it
+// (-ffp-contract=off: the same expressions round the same way wherever they are inlined). false
+// for a degenerate triangle, whose normal surface_interaction took from the ray, which is not kept.
+RESTIR_HD inline bool surface_at(const SceneView& scene, uint32_t geom, uint32_t prim, Vec2 barycentrics, Vec3 p, SurfaceInteraction& si) {
+  if (geom == scene.sphere_geom()) {
+    si = sphere_surface(scene, prim, p);
+    return true;
+  }
+  si = triangle_surface(scene, geom, prim, barycentrics, Vec3(0));
+  return !is_black(si.ng);
 }
 
 }  // namespace rl

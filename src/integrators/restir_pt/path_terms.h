@@ -43,15 +43,21 @@ struct Vertex {
   Bsdf bsdf;
   bool delta = false;
   int material = -1;  // the hit's material (-1 at the primary vertex, which comes from the G-buffer)
+  // What identifies the hit (surface_at): kept by a path whose reconnection vertex it becomes.
+  uint32_t geom = kInvalidId, prim = 0;
+  Vec2 barycentrics;
 };
 
 RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
-  return {s.p, s.ng, s.frame(), s.wo, s.bsdf, bsdf_is_delta(s.bsdf)};
+  Vertex v;  // no surface record: the primary vertex x_1 is never a reconnection vertex (k >= 2)
+  v.p = s.p, v.ng = s.ng, v.frame = s.frame(), v.wo = s.wo, v.bsdf = s.bsdf, v.delta = bsdf_is_delta(s.bsdf);
+  return v;
 }
 
 RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInteraction& si, Vec3 wo) {
   const MaterialParams& m = world.scene.materials[si.material];
-  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.material};
+  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.material,
+           si.geom, si.prim, si.barycentrics};
   v.delta = bsdf_is_delta(v.bsdf);
   return v;
 }

@@ -33,26 +33,32 @@ struct PathWorld;
 
 // Packed exactly (issue 48: compact state): the counters in bytes (n <= pt_detail::kMaxVertices =
 // 66), and the fields that only one case of k reads share their storage, each union's member valid
-// in the case its comment names (rc and length tell which). A reservoir is 144 bytes, not 160.
+// in the case its comment names (rc and length tell which). A reservoir is 112 bytes.
 struct PathSample {
+  // Written out: rc_out's initializer, not the compiler, sets the union it shares with rc_normal (a
+  // union of Vec3s has no implicit default constructor).
+  RESTIR_HD PathSample() {}
   uint64_t seed = 0;       // random stream of the walk (per-vertex streams are derived from it)
   uint8_t length = 0;      // n (0 = no path)
   uint8_t rc = 0;          // reconnection vertex k in [2, n]; 0 = none (pure replay)
   bool nee = false;        // tag: last vertex sampled by next-event estimation (else by the BSDF)
   // Reconnection vertex x_k (valid when rc > 0).
   Vec3 rc_position;        // x_k; the direction for an environment or distant emitter
-  Vec3 rc_normal;          // geometric normal at x_k (zero for delta lights / environment)
-  // x_k's BSDF and shading frame (k < n), kept as what rebuilds them bit for bit: the material
-  // (the walk's x_k, k >= 2, is always a ray hit), the reflectance make_bsdf was given there (the
-  // texture value), and the shading normal (Frame::from_normal). 28 bytes instead of 92 in a
-  // reservoir that every reuse pass reads k times per pixel (issue 9: compact ReSTIR state).
+  // k < n: x_k's surface kept as what identifies it -- its geometry, primitive and barycentrics,
+  // from which surface_at (scene_view.h) rebuilds the geometric and shading normals, the material
+  // and the texture's reflectance bit for bit, as Lin et al.'s own implementation keeps the
+  // reconnection vertex as a packed hit (16 bytes instead of 40: issue 48's 320 bytes of persistent
+  // state per pixel). x_k (k >= 2) is always a ray hit of the walk.
   union {
     uint32_t rc_emitter = 0xffffffffu;  // k == n: the emitter x_k is on
-    int rc_material;                    // k < n: x_k's material
+    uint32_t rc_geom;                   // k < n: x_k's mesh, or SceneView::sphere_geom()
   };
-  Rgb rc_reflectance{0};
-  Vec3 rc_shading_normal;
-  Vec3 rc_out;             // ω_k, leaving x_k toward x_{k+1} (k < n)
+  uint32_t rc_prim = 0;    // k < n: x_k's triangle or sphere
+  Vec2 rc_barycentrics;    // k < n: x_k's barycentrics of vertices 1 and 2 (a triangle)
+  union {
+    Vec3 rc_out{};         // k < n: ω_k, leaving x_k toward x_{k+1}
+    Vec3 rc_normal;        // k == n: the emitter's geometric normal at x_k (zero for delta lights / environment)
+  };
   Rgb rc_suffix{0};        // everything after x_k's own BSDF term: Π_{i>k} f_s|cos| × Le G (k < n);
                            // Le G of the last segment as the walk found it (k = n)
   union {
@@ -71,7 +77,7 @@ using PathReservoir = restir::Reservoir<PathSample>;
 // The sample's identity for the duplication map (reservoir_chain.h): the walk's random stream, which
 // every shift keeps (ReSTIR PT Enhanced, sec. 5: "share the same initial random seed").
 RESTIR_HD inline uint64_t duplicate_key(const PathSample& x) { return mix64(x.seed); }
-static_assert(sizeof(PathReservoir) <= 136, "ReSTIR PT's reservoir outgrew 136 bytes (bench_scaling prints its size)");
+static_assert(sizeof(PathReservoir) <= 112, "ReSTIR PT's reservoir outgrew 112 bytes (bench_scaling prints its size)");
 
 // What a walk and a shift read: the path tracer's settings (path.*), so that restir-pt and its
 // reference render the same integral, and ReSTIR PT's own (pt.*) -- the option structs themselves,

@@ -142,17 +142,18 @@ RESTIR_HD Step take_step(const PathWorld& world, const Tracer& tracer, const Pat
 }
 
 // x_k as a path's description needs it (describe_path): x_{k-1}'s position, the density of the
-// replayed directions before x_{k-1}, x_k's point, normals, material and reflectance, and ω_k.
+// replayed directions before x_{k-1}, x_k's point, geometric normal and what identifies its
+// surface (surface_at), and ω_k.
 struct RcVertex {
   Vec3 previous;
   float replay = 1;
-  Vec3 p, ng, shading_normal;
-  int material = -1;
-  Rgb reflectance{0};
+  Vec3 p, ng;
+  uint32_t geom = kInvalidId, prim = 0;
+  Vec2 barycentrics;
   Vec3 out;
 };
 RESTIR_HD inline RcVertex rc_vertex(const Vertex& prev, float replay, const Vertex& xk, Vec3 out) {
-  return {prev.p, replay, xk.p, xk.ng, xk.frame.n, xk.material, xk.bsdf.reflectance, out};
+  return {prev.p, replay, xk.p, xk.ng, xk.geom, xk.prim, xk.barycentrics, out};
 }
 
 // The walk's bookkeeping at step d (vertex x_d), constant in size whatever the path length (issue
@@ -254,10 +255,9 @@ RESTIR_HD inline void describe_path(const PathSettings& ps, const Walk& w, int n
   s.rc_geometry = restir::reconnection_geometry(xk.previous, xk.p, xk.ng);
   s.replay_pdf = xk.replay;
   s.rc_position = xk.p;
-  s.rc_normal = xk.ng;
-  s.rc_material = xk.material;
-  s.rc_reflectance = xk.reflectance;
-  s.rc_shading_normal = xk.shading_normal;
+  s.rc_geom = xk.geom;
+  s.rc_prim = xk.prim;
+  s.rc_barycentrics = xk.barycentrics;
   s.rc_out = xk.out;
   // Le G × (Π_{k<i<n-1} f_s|cos|, folded from the left) × the last segment's.
   s.rc_suffix = tail * (k < d ? w.between : Rgb(1)) * (k < d ? last_fcos : Rgb(1));

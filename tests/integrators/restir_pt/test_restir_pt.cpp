@@ -351,8 +351,8 @@ namespace {
 // (Vec3's operator==, as test_gbuffer's same_bits).
 bool same_bits(const PathSample& a, const PathSample& b) {
   return a.seed == b.seed && a.length == b.length && a.nee == b.nee && a.rc == b.rc && a.rc_position == b.rc_position &&
-         a.rc_normal == b.rc_normal && a.rc_emitter == b.rc_emitter && a.rc_material == b.rc_material &&
-         a.rc_reflectance == b.rc_reflectance && a.rc_shading_normal == b.rc_shading_normal && a.rc_out == b.rc_out &&
+         a.rc_emitter == b.rc_emitter && a.rc_prim == b.rc_prim && a.rc_barycentrics.x == b.rc_barycentrics.x &&
+         a.rc_barycentrics.y == b.rc_barycentrics.y && a.rc_out == b.rc_out &&  // rc_out shares rc_normal's bytes, rc_emitter rc_geom's
          a.rc_suffix == b.rc_suffix && a.rc_mis == b.rc_mis && a.rc_tail_light_pdf == b.rc_tail_light_pdf &&
          a.rc_tail_measure == b.rc_tail_measure && a.rc_geometry == b.rc_geometry && a.replay_pdf == b.replay_pdf &&
          a.contribution == b.contribution;
