@@ -42,8 +42,8 @@ struct Vertex {
   Vec3 wo;  // world direction toward the previous vertex
   Bsdf bsdf;
   bool delta = false;
-  int material = -1;  // the hit's material (-1 at the primary vertex, which comes from the G-buffer)
-  // What identifies the hit (surface_at): kept by a path whose reconnection vertex it becomes.
+  // What identifies the hit (surface_at): kept by a path whose reconnection vertex it becomes
+  // (kInvalidId at the primary vertex, which comes from the G-buffer).
   uint32_t geom = kInvalidId, prim = 0;
   Vec2 barycentrics;
 };
@@ -56,8 +56,8 @@ RESTIR_HD inline Vertex vertex_from_surface(const GSurface& s) {
 
 RESTIR_HD inline Vertex vertex_from_hit(const PathWorld& world, const SurfaceInteraction& si, Vec3 wo) {
   const MaterialParams& m = world.scene.materials[si.material];
-  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.material,
-           si.geom, si.prim, si.barycentrics};
+  Vertex v{si.p, si.ng, Frame::from_normal(si.ns), wo, make_bsdf(m, material_reflectance(world.scene, m, si.uv)), false, si.geom,
+           si.prim, si.barycentrics};
   v.delta = bsdf_is_delta(v.bsdf);
   return v;
 }
