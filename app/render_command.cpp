@@ -155,7 +155,7 @@ static void write_sidecar(const std::string& path, const std::string& scene, con
   for (const StageTimes& st : r.frame_stages) {
     nlohmann::ordered_json one = nlohmann::ordered_json::object(), counted = nlohmann::ordered_json::object();
     for (const auto& [name, ms] : st.ms) one[name] = ms;
-    for (const auto& [name, c] : st.rays) counted[name] = {{"closest", c.closest}, {"any", c.any}};
+    for (const auto& [name, c] : st.rays) counted[name] = {{"closest", c.closest}, {"any", c.any}, {"queued", c.queued}};
     stages.push_back(std::move(one));
     rays.push_back(std::move(counted));
   }

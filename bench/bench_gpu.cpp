@@ -73,6 +73,13 @@ void measure_restir(const std::string& integrator, const std::string& path, int 
              path.substr(path.find_last_of('/') + 1), width, height, spp, integrator, o.path.max_depth, cpu.ms, gpu.ms, cpu.ms / gpu.ms);
   fmt::print("  cuda on the 8-wide BVH (render.bvh = wide): {:.2f} ms; wide/binary {:.3f}; stages: {}\n", gpu_wide.ms, gpu_wide.ms / gpu.ms,
              gpu_wide.stages);
+  // The reuse passes' shadow rays queued and traced in one kernel (render.reuse_rays = queued,
+  // frame/ray_slots.h): the same image; kept as the CUDA default only if it measures faster.
+  Options queued = o;
+  queued.render.reuse_rays = ReuseRays::queued;
+  const FrameTime gpu_queued = frame_ms(scene, queued, integrator, Backend::cuda, frames);
+  fmt::print("  cuda with queued reuse rays (render.reuse_rays = queued): {:.2f} ms; queued/inline {:.3f}; stages: {}\n", gpu_queued.ms,
+             gpu_queued.ms / gpu.ms, gpu_queued.stages);
   fmt::print("  cuda stages: {}\n", gpu.stages);
   fmt::print("  rays per pixel by stage (closest+any), cpu: {}\n", cpu.rays);
   fmt::print("  rays per pixel by stage (closest+any), cuda: {}\n", gpu.rays);

@@ -13,6 +13,13 @@
 #define RESTIR_HD
 #endif
 #endif
+// A device function nvcc must inline whatever its call sites (a stage's per-pixel function called
+// from two kernels, frame/ray_slots.h, stays inlined into each, as with one); the host compiler decides.
+#ifdef __CUDACC__
+#define RESTIR_FORCE_INLINE __forceinline__
+#else
+#define RESTIR_FORCE_INLINE
+#endif
 
 namespace rl {
 

@@ -17,17 +17,22 @@ namespace rl {
 struct RayCounts {
   uint64_t closest = 0;  // closest-hit queries
   uint64_t any = 0;      // any-hit (shadow, visibility) queries
+  // Of the any-hit queries, those a reuse pass queued and one stage traced for it (render.reuse_rays
+  // = queued, frame/ray_slots.h); the rest each pixel's thread traced itself.
+  uint64_t queued = 0;
   uint64_t total() const { return closest + any; }
   RayCounts& operator+=(const RayCounts& o) {
-    closest += o.closest, any += o.any;
+    closest += o.closest, any += o.any, queued += o.queued;
     return *this;
   }
   friend RayCounts operator+(RayCounts a, const RayCounts& b) { return a += b; }
-  friend RayCounts operator-(const RayCounts& a, const RayCounts& b) { return {a.closest - b.closest, a.any - b.any}; }
+  friend RayCounts operator-(const RayCounts& a, const RayCounts& b) {
+    return {a.closest - b.closest, a.any - b.any, a.queued - b.queued};
+  }
   friend bool operator==(const RayCounts&, const RayCounts&) = default;
 };
 
-// The counter slots: kRaySlots cache lines, each holding [closest, any]. On the host, each of the
+// The counter slots: kRaySlots cache lines, each holding [closest, any, queued]. On the host, each of the
 // first kRaySlots - 1 threads that count owns one (no other thread writes it, so a plain
 // increment is safe: the readers read after the stage's threads joined), and every later thread
 // shares the last one through atomics; on the device, blocks share slots through warp-aggregated
@@ -52,23 +57,28 @@ inline uint32_t host_ray_slot() {
 struct RayCounter {
   uint64_t* slots = nullptr;
 
-  RESTIR_HD void add(bool any_hit) const {
+  // A query of one kind: closest hit or any hit.
+  RESTIR_HD void add(bool any_hit) const { add_word(any_hit ? 1u : 0u); }
+  // An any-hit query a reuse pass queued (counted besides its add(true)).
+  RESTIR_HD void add_queued() const { add_word(2u); }
+  // word: 0 closest, 1 any, 2 queued.
+  RESTIR_HD void add_word(uint32_t word) const {
     if (!slots) return;
 #if defined(__CUDA_ARCH__)
     // One atomic per warp and kind: the lanes counting together elect their lowest lane, which
     // adds their number (a relaxed global atomic per ray would queue a warp's 32 on one address).
     const unsigned active = __activemask();
-    const unsigned peers = __match_any_sync(active, any_hit ? 1u : 0u);
+    const unsigned peers = __match_any_sync(active, word);
     unsigned lane;
     asm("mov.u32 %0, %%laneid;" : "=r"(lane));
     if (lane == unsigned(__ffs(peers) - 1)) {
       const uint32_t slot = (blockIdx.x + blockIdx.y * gridDim.x) % kRaySlots;
-      atomicAdd(reinterpret_cast<unsigned long long*>(slots + slot * kRaySlotStride + (any_hit ? 1 : 0)),
+      atomicAdd(reinterpret_cast<unsigned long long*>(slots + slot * kRaySlotStride + word),
                 static_cast<unsigned long long>(__popc(peers)));
     }
 #else
     const uint32_t slot = host_ray_slot();
-    uint64_t* c = slots + slot * kRaySlotStride + (any_hit ? 1 : 0);
+    uint64_t* c = slots + slot * kRaySlotStride + word;
     if (slot < kRaySlots - 1) {
       __atomic_store_n(c, __atomic_load_n(c, __ATOMIC_RELAXED) + 1, __ATOMIC_RELAXED);  // its own slot: no lock
     } else {
@@ -81,7 +91,8 @@ struct RayCounter {
 // The sum over the slots (host memory: a device policy downloads them first).
 inline RayCounts sum_ray_slots(const uint64_t* slots) {
   RayCounts c;
-  for (uint32_t s = 0; s < kRaySlots; ++s) c.closest += slots[s * kRaySlotStride], c.any += slots[s * kRaySlotStride + 1];
+  for (uint32_t s = 0; s < kRaySlots; ++s)
+    c.closest += slots[s * kRaySlotStride], c.any += slots[s * kRaySlotStride + 1], c.queued += slots[s * kRaySlotStride + 2];
   return c;
 }
 

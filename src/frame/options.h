@@ -20,6 +20,9 @@ enum class SamplePattern { center, stratified, halton, msaa, random };
 // backend's code on the CPU's threads (its own BVH, host memory): a GPU-less check of the GPU path.
 enum class Backend { cpu, cuda, cpu_bvh };
 enum class PixelFilter { box, triangle, gaussian };
+// How the ReSTIR reuse passes trace their shadow rays (frame/ray_slots.h): each thread its own, or
+// recorded by a first run of the pass, traced in one stage and read back by the pass.
+enum class ReuseRays { inline_rays, queued };
 enum class MisHeuristic { balance, power };
 // ReSTIR GI's target function (Ouyang et al. 2021, §4): the sample point's outgoing radiance, or
 // that times the BSDF and cosine at the visible point.
@@ -64,6 +67,9 @@ template <> struct EnumNames<Backend> {
 };
 template <> struct EnumNames<BvhLayout> {
   static constexpr std::array<std::pair<BvhLayout, const char*>, 2> values{{{BvhLayout::binary, "binary"}, {BvhLayout::wide, "wide"}}};
+};
+template <> struct EnumNames<ReuseRays> {
+  static constexpr std::array<std::pair<ReuseRays, const char*>, 2> values{{{ReuseRays::inline_rays, "inline"}, {ReuseRays::queued, "queued"}}};
 };
 template <> struct EnumNames<PixelFilter> {
   static constexpr std::array<std::pair<PixelFilter, const char*>, 3> values{
@@ -142,6 +148,7 @@ struct RenderOptions {
   int threads = 0;
   Backend backend = Backend::cpu;
   BvhLayout bvh = BvhLayout::binary;
+  ReuseRays reuse_rays = ReuseRays::inline_rays;
   SamplePattern sample_pattern = SamplePattern::halton;
   LightSelection light_selection = LightSelection::power;
   std::string camera_path;
@@ -332,6 +339,10 @@ void visit_options(O& o, V& v) {
     "the tree the cuda and cpu-bvh backends traverse: binary (two boxes a node, nearer child first) or wide (Ylitie et al. "
     "2017's compressed 8-wide nodes: quantized boxes, children ordered per ray octant, a compressed stack); the same "
     "hits either way; cpu uses Embree's own and refuses wide; docs/gpu.md");
+  v("render.reuse_rays", o.render.reuse_rays,
+    "how the ReSTIR integrators' temporal and spatial passes trace their shadow rays: inline (each pixel's thread traces its "
+    "own) or queued (a first run of the pass records each pixel's any-hit rays, one stage traces them all, the pass reads "
+    "the answers: on a GPU no thread idles while another traverses); the same image bit for bit either way; docs/gpu.md");
   v("render.sample_pattern", o.render.sample_pattern,
     "primary-ray positions inside a pixel, continued over the frames of a sequence (anti-aliasing over frames): center, "
     "stratified (4x4 strata cycled over frames at 1-8 spp), halton, msaa (Direct3D 8x positions cycled over frames; 16x "

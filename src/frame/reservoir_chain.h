@@ -27,9 +27,10 @@ struct TemporalStage {
   ReuseFrame f;
   ReuseDebugView dbg;
   const float* history_caps;  // the duplication map's M-caps (null: off)
-  RESTIR_HD void operator()(int x, int y) const {
-    temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y, history_caps);
+  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, RayCursor* cursor) const {
+    temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y, history_caps, cursor);
   }
+  RESTIR_HD RESTIR_FORCE_INLINE void operator()(int x, int y) const { run(x, y, nullptr); }
 };
 
 template <class Res, class Bridges>
@@ -43,7 +44,32 @@ struct SpatialStage {
   int round;
   ReuseDebugView dbg;
   ReuseColor color;
-  RESTIR_HD void operator()(int x, int y) const { spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y, color); }
+  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, RayCursor* cursor) const {
+    spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y, color, cursor);
+  }
+  RESTIR_HD RESTIR_FORCE_INLINE void operator()(int x, int y) const { run(x, y, nullptr); }
+};
+
+// A queued reuse pass (render.reuse_rays = queued, ray_slots.h): pass's pixel run as the producer,
+// which records its shadow rays, or as the consumer, which reads their answers. The producer's
+// outputs are overwritten by the consumer's, but for the debug counters, which a pass increments:
+// the producer puts them back.
+template <class Pass>
+struct QueuedPassStage {
+  Pass pass;
+  RaySlotsView slots;
+  bool record;
+  RESTIR_HD RESTIR_FORCE_INLINE void operator()(int x, int y) const {
+    const uint32_t p = uint32_t(y * pass.g.width + x);
+    RayCursor cursor{slots, p, record};
+    if (!record) return pass.run(x, y, &cursor);
+    const ReuseDebugView& dbg = pass.dbg;
+    const uint8_t source = dbg.source[p];
+    const uint16_t tried = dbg.tried[p], rejected = dbg.rejected[p];
+    pass.run(x, y, &cursor);
+    dbg.source[p] = source, dbg.tried[p] = tried, dbg.rejected[p] = rejected;
+    cursor.finish();
+  }
 };
 
 // Paired spatial reuse (paired_reuse.h): pass 1, each pixel's sample shifted to its partners.
@@ -231,6 +257,12 @@ struct ReservoirChain {
   Array<PairedShift> paired_shifts;
   Array<uint8_t> paired_deferred;  // replay compaction: the pass-1 slots whose shift replays
   Array<uint32_t> replay_list;     // ... and their list (Exec::select)
+  // render.reuse_rays = queued (ray_slots.h): the pass's recorded shadow rays, their answers, each
+  // pixel's count and the list of recorded slots.
+  Array<Ray> slot_rays;
+  Array<uint8_t> slot_answers;
+  Array<uint32_t> slot_counts, slot_list;
+  bool queued_rays = false;
   Array<float> boiling_means;  // the boiling filter's per-block mean W
   Array<uint64_t> duplicate_keys;
   Array<float> history_caps;  // the duplication map's M-caps of this frame's pixels, read by the next frame's temporal pass
@@ -273,7 +305,8 @@ struct ReservoirChain {
            array_bytes(previous) + array_bytes(scratch) + array_bytes(source) + array_bytes(tried) + array_bytes(rejected) +
            array_bytes(pairing_offsets) + array_bytes(pairing_first) + array_bytes(pairing_sizes) + array_bytes(pairing_transforms) +
            array_bytes(paired_shifts) + array_bytes(paired_deferred) + array_bytes(replay_list) + array_bytes(boiling_means) +
-           array_bytes(duplicate_keys) + array_bytes(history_caps) + array_bytes(colors) + array_bytes(shift_colors);
+           array_bytes(duplicate_keys) + array_bytes(history_caps) + array_bytes(colors) + array_bytes(shift_colors) +
+           array_bytes(slot_rays) + array_bytes(slot_answers) + array_bytes(slot_counts) + array_bytes(slot_list);
   }
 
   ReuseDebugView debug() { return {source.data, tried.data, rejected.data}; }
@@ -296,6 +329,7 @@ struct ReservoirChain {
     Exec::zero(source, n), Exec::zero(tried, n), Exec::zero(rejected, n);
     has_motion = w.view().animation_count > 0;  // motion only where something can move
     if (has_motion) motion.reserve(n);
+    queued_rays = ctx.options.render.reuse_rays == ReuseRays::queued;
     materials = w.view().world.scene.materials;
     eye = frame.camera->position();
     B::primary_hits(w, ctx, frame, s, gbuffer.data, emitted.data, has_motion ? motion.data : nullptr);
@@ -326,7 +360,7 @@ struct ReservoirChain {
                                               previous.data,   scratch.data,
                                               f,               debug(),
                                               rp.duplication_map && has_history_caps ? history_caps.data : nullptr};
-      Exec::for_pixels(width, height, stage, "temporal reuse");
+      run_pass(stage, bridges.fw.tracer, rp.temporal_mis, 2, "temporal reuse");
       reservoirs.swap(scratch);
     }
     {
@@ -336,7 +370,7 @@ struct ReservoirChain {
       } else {
         for (int round = 0; rp.spatial_neighbors > 0 && round < rp.spatial_rounds; ++round) {
           const SpatialStage<Res, Bridges> stage{bridges, rp, view(), reservoirs.data, scratch.data, f, round, debug(), color};
-          Exec::for_pixels(width, height, stage, "spatial reuse");
+          run_pass(stage, bridges.fw.tracer, rp.spatial_mis, std::min(rp.spatial_neighbors, kMaxReuseNeighbors) + 1, "spatial reuse");
           reservoirs.swap(scratch);
         }
       }
@@ -344,6 +378,23 @@ struct ReservoirChain {
     if (rp.boiling_filter > 0) boiling_filter(rp.boiling_filter, frame);
     has_history_caps = rp.duplication_map;
     if (rp.duplication_map) duplication_map(rp, frame);
+  }
+
+  // A temporal or spatial pass over the pixels, combining up to `inputs` reservoirs a pixel with
+  // `kind`: inline, or queued (ray_slots.h): the producer run, one any-hit query per recorded ray,
+  // the consumer run.
+  template <class Stage, class Tracer>
+  void run_pass(const Stage& stage, const Tracer& tracer, restir::ReuseMis kind, int inputs, const char* what) {
+    using namespace chain_detail;
+    if (!queued_rays) return Exec::for_pixels(width, height, stage, what);
+    const size_t pixels = size_t(width) * size_t(height);
+    const uint32_t per_pixel = ray_slots_per_pixel(kind, inputs);
+    slot_rays.reserve(pixels * per_pixel), slot_answers.reserve(pixels * per_pixel), slot_counts.reserve(pixels);
+    const RaySlotsView slots{slot_rays.data, slot_answers.data, slot_counts.data, per_pixel};
+    Exec::for_pixels(width, height, QueuedPassStage<Stage>{stage, slots, true}, "reuse: recording shadow rays");
+    const uint32_t n = Exec::select(pixels * per_pixel, RecordedSlot{slots}, slot_list, "reuse: recorded rays");
+    Exec::for_each(n, TraceSlotsStage<Tracer>{tracer, slots, slot_list.data}, "reuse: shadow rays");
+    Exec::for_pixels(width, height, QueuedPassStage<Stage>{stage, slots, false}, what);
   }
 
   // The duplication map of this frame's final reservoirs, as the next frame's per-pixel M-caps.

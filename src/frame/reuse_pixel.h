@@ -13,6 +13,7 @@
 #include "core/rng.h"
 #include "frame/gbuffer.h"
 #include "frame/options.h"
+#include "frame/ray_slots.h"
 #include "restir/mis.h"
 #include "restir/neighbors.h"
 
@@ -116,14 +117,17 @@ RESTIR_HD bool add_debug_view(DebugView view, const restir::Reservoir<Sample>& r
   return true;
 }
 
+// cursor (both passes): a queued pass's producer or consumer run of the pixel (ray_slots.h); null:
+// its shadow rays traced inline.
+
 // Temporal reuse at pixel (x, y): its reservoir combined with last frame's final reservoir at the
 // reprojected pixel (if that surface is similar), the history's confidence capped (M-cap), into next.
 // history_caps: per previous-frame pixel, the M-cap the duplication map set (null: rp.max_history).
 template <class Res, class MakeBridge>
-RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, const GBufferView& previous_g,
+RESTIR_HD RESTIR_FORCE_INLINE void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, const GBufferView& previous_g,
                               const PerspectiveCamera& previous_camera, const Res* reservoirs, const Res* history, Res* next,
                               const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y,
-                              const float* history_caps = nullptr) {
+                              const float* history_caps = nullptr, RayCursor* cursor = nullptr) {
   const uint32_t p = uint32_t(y * g.width + x);
   const GSurface cur = g.at(x, y);
   next[p] = reservoirs[p];
@@ -151,7 +155,7 @@ RESTIR_HD void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, cons
   hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, cap);
   const GPacked* packed[2] = {nullptr, &prev};
   const Res* inputs[2] = {&reservoirs[p], &hist};
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true, cursor);
   Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
   restir::CombineInfo info;
   next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), reuse_weights(rp.temporal_mis, rp, f), rng, &info);
@@ -191,8 +195,9 @@ inline void prefetch_neighbours(const GBufferView& g, const Res* reservoirs, int
 // Spatial reuse round `round` at pixel (x, y): its reservoir combined with those of up to
 // spatial_neighbors pixels on a rotated golden-angle spiral within spatial_radius, into next.
 template <class Res, class MakeBridge>
-RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, Res* next, const MakeBridge& make_bridge,
-                             const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y, const ReuseColor& color = {}) {
+RESTIR_HD RESTIR_FORCE_INLINE void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, Res* next, const MakeBridge& make_bridge,
+                             const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y, const ReuseColor& color = {},
+                             RayCursor* cursor = nullptr) {
   const int w = g.width, h = g.height;
   const int k = rp.spatial_neighbors < kMaxReuseNeighbors ? rp.spatial_neighbors : kMaxReuseNeighbors;
   const uint32_t p = uint32_t(y * w + x);
@@ -234,7 +239,7 @@ RESTIR_HD void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const
     inputs[n] = &reservoirs[size_t(ny * w + nx)];
     ++n;
   }
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, g.eye}, n, false);
+  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, g.eye}, n, false, cursor);
   restir::CombineInfo info;
   info.want_color = color.out != nullptr;
   info.color_input_target = color.planted_input_target;

@@ -383,7 +383,7 @@ void Session::screenshot(const std::string& base, const Image& hdr, const Image&
   for (const auto& [name, ms] : r.stages.ms) stages[name] = ms;
   side["stage_ms"] = std::move(stages);
   nlohmann::ordered_json rays = nlohmann::ordered_json::object();  // as `restir render`'s sidecar
-  for (const auto& [name, c] : r.stages.rays) rays[name] = {{"closest", c.closest}, {"any", c.any}};
+  for (const auto& [name, c] : r.stages.rays) rays[name] = {{"closest", c.closest}, {"any", c.any}, {"queued", c.queued}};
   side["pixels"] = size_t(r.width) * size_t(r.height);
   side["stage_rays"] = std::move(rays);
   write_text_file_atomic(stem + ".json", side.dump(2) + "\n");

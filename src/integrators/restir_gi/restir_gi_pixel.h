@@ -111,6 +111,7 @@ struct GiBridge {
   const GiBridges<Tracer>* b;
   SurfaceList surfaces;  // surfaces[i] = domain i's visible point, 0 = canonical
   bool temporal;
+  RayCursor* cursor;  // a queued pass's slots (ray_slots.h); null: inline
   // Domain 1 is another frame's, replayed across the frames (an animated scene's history).
   RESTIR_HD bool across_frames() const { return temporal && b->fw.has_previous && b->replay_history; }
   // Another domain's stored target is p̂_i(y) at its own visible point, visibility included, and
@@ -122,7 +123,7 @@ struct GiBridge {
   RESTIR_HD bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      x = gi_replayed(fw.world, fw.tracer, b->path, surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
+      x = gi_replayed(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->path, surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
       jacobian = x.infinite ? 1.0f
                             : restir::moved_reconnection_jacobian(surfaces.point(1), y.position, y.normal, surfaces.point(0), x.position,
                                                                   x.normal);
@@ -135,14 +136,15 @@ struct GiBridge {
   RESTIR_HD float target_from(int i, const GiSample& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      const GiSample back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, surfaces[1],
+      const SlotTracer<Tracer> previous{&fw.previous_tracer, nullptr};  // not queued: the queue holds this frame's rays
+      const GiSample back = gi_replayed(fw.previous_world, previous, b->path, surfaces[1],
                                         gi_carried(fw.world.scene, fw.back, fw.animation_count, x));
-      const float t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, surfaces[1], back, false);  // visibility: in gi_replayed
+      const float t = gi_target(fw.previous_world, previous, b->kind, surfaces[1], back, false);  // visibility: in gi_replayed
       return x.infinite ? t
                         : t * restir::moved_reconnection_jacobian(surfaces.point(0), x.position, x.normal, surfaces.point(1), back.position,
                                                                   back.normal);
     }
-    const float t = gi_target(fw.world, fw.tracer, b->kind, surfaces[i], x, true);
+    const float t = gi_target(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->kind, surfaces[i], x, true);
     return i == 0 ? t : t * gi_jacobian(x, surfaces.point(0), surfaces.point(i));
   }
 };
@@ -154,7 +156,9 @@ struct GiBridges {
   GiTarget kind;
   PathOptions path;     // the sample's path: path.max_depth - 1 bounces
   bool replay_history;  // false: a planted bias (planted_bias.h) keeps an animated history's cached radiance
-  RESTIR_HD GiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const { return {this, surfaces, temporal}; }
+  RESTIR_HD GiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor = nullptr) const {
+    return {this, surfaces, temporal, cursor};
+  }
 };
 
 // One BSDF-sampled secondary hit and the radiance leaving it toward s (a path of `path` bounces,

@@ -58,6 +58,7 @@ struct PtBridge {
   // Domain 1 is last frame's pixel evaluated in this frame's scene (pt.history_scene = current in an
   // animated scene): its stored target was computed in the other scene.
   bool history_in_other_scene;
+  RayCursor* cursor;                // a queued pass's slots (ray_slots.h); null: inline
   mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
   // Another domain's stored target is p̂_i of its own sample y, computed at its own primary hit in
   // the scene it was made in (an animated history's too, as long as each domain's target is
@@ -73,8 +74,10 @@ struct PtBridge {
   }
   RESTIR_HD bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
-    if (i == 1 && history) return shift_path(fw.previous_world, fw.previous_tracer, b->ps, x, to, y, jacobian);
-    return shift_path(fw.world, fw.tracer, b->ps, x, to, y, jacobian);
+    // The previous frame's rays are not queued (the queue holds this frame's); the same tracer type
+    // keeps one instantiation of the shifts.
+    if (i == 1 && history) return shift_path(fw.previous_world, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, b->ps, x, to, y, jacobian);
+    return shift_path(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->ps, x, to, y, jacobian);
   }
   RESTIR_HD bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
@@ -121,11 +124,11 @@ struct PtBridges {
   bool planted_on;
   // pt.replay_compaction: paired reuse makes the shifts that replay in a pass of their own.
   bool compact_replays() const { return ps.pt.replay_compaction; }
-  RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const {
+  RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor = nullptr) const {
     // pt.history_scene = current evaluates the history in this frame's scene even where the
     // previous one is kept (for pt.direct = restir-di's ReSTIR DI).
     const bool past = temporal && fw.has_previous && history_in_previous;
-    return {this, surfaces, past, temporal && !past && fw.animated};
+    return {this, surfaces, past, temporal && !past && fw.animated, cursor};
   }
 };
 

@@ -63,7 +63,7 @@ TEST_SUITE("restir_pt") {
 
   TEST_CASE("replay compaction defers exactly the shifts that trace from the offset primary hit") {
     PtBridges<EmbreeTracer> bridges{};
-    const PtBridge<EmbreeTracer> bridge{&bridges, SurfaceList{}, false, false};
+    const PtBridge<EmbreeTracer> bridge{&bridges, SurfaceList{}, false, false, nullptr};
     PathSample y;
     y.length = 4;
     for (int rc : {0, 2, 3, 4}) {
