@@ -87,6 +87,17 @@ run_checks() {
           -q 2>&1 | grep -v 'Film "filename" ignored' | tee -a "$results" || true
         cat "${TMPDIR:-/tmp}/stages-compact-$compact.csv" >>"$results" 2>/dev/null || true
       done
+      # The reuse passes' shadow rays queued and traced in one kernel (render.reuse_rays, issue 48):
+      # each stage's device time and rays, to set the CUDA default (docs/gpu.md).
+      for integrator in restir-di restir-pt; do
+        case "$integrator" in restir-di) scene="$SCENES_OWN/scenes/many-lights.pbrt" ;; *) scene="$SCENES_OWN/scenes/teapot.pbrt" ;; esac
+        echo "== stage times: $integrator, $(basename "$scene"), cuda, 1920x1080, 6 frames, render.reuse_rays=queued" | tee -a "$results"
+        timeout 60 "${runner[@]}" "$bin/restir" render "$scene" --integrator "$integrator" --spp 1 --frames 6 --set render.backend=cuda \
+          --set film.width=1920 --set film.height=1080 --set render.reuse_rays=queued \
+          --timings "${TMPDIR:-/tmp}/stages-queued-$integrator.csv" -o "${TMPDIR:-/tmp}/gpu-queued.exr" -q 2>&1 |
+          grep -v 'Film "filename" ignored' | tee -a "$results" || true
+        cat "${TMPDIR:-/tmp}/stages-queued-$integrator.csv" >>"$results" 2>/dev/null || true
+      done
     fi
     [ -x "$bin/restir" ] && [ "${GPU_CHECK_STUDIES:-1}" != 0 ] && run_gpu_studies "$results" "$bin" "${runner[@]}"
   fi

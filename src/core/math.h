@@ -20,6 +20,14 @@
 #else
 #define RESTIR_FORCE_INLINE
 #endif
+// A small host function GCC must inline: its unit-growth limits outline even tiny ones in a
+// translation unit that grew (measured: ReSTIR GI's shadow-ray construction, 5.8 % of the frame
+// once out of line). nvcc inlines such functions by itself.
+#ifdef __CUDACC__
+#define RESTIR_ALWAYS_INLINE
+#else
+#define RESTIR_ALWAYS_INLINE [[gnu::always_inline]]
+#endif
 
 namespace rl {
 

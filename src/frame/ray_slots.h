@@ -83,8 +83,11 @@ struct RayCursor {
   }
 };
 
-// The tracer a reuse pass's bridge hands its shifts and targets: the frame's tracer, its any-hit
-// queries through the pixel's cursor when the pass is queued (cursor non-null).
+// The tracer a reuse pass's bridge hands its shifts and targets when the pass is queued (cursor
+// non-null): the frame's tracer, its any-hit queries through the pixel's cursor. An inline pass
+// (cursor null) hands them the frame's tracer itself, so that it runs the code it ran before queues
+// existed (on the CPU, the x86-64-v3 copies of ReSTIR PT's shifts, pt_path.cpp, are overloads for
+// the plain tracer, and GCC inlines the plain instantiations as before).
 template <class Tracer>
 struct SlotTracer {
   const Tracer* inner;

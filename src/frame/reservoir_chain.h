@@ -27,7 +27,8 @@ struct TemporalStage {
   ReuseFrame f;
   ReuseDebugView dbg;
   const float* history_caps;  // the duplication map's M-caps (null: off)
-  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, RayCursor* cursor) const {
+  template <class Cursor>
+  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, Cursor cursor) const {
     temporal_pixel(rp, g, previous_g, previous_camera, reservoirs, history, next, bridges, f, dbg, x, y, history_caps, cursor);
   }
   RESTIR_HD RESTIR_FORCE_INLINE void operator()(int x, int y) const { run(x, y, nullptr); }
@@ -44,7 +45,8 @@ struct SpatialStage {
   int round;
   ReuseDebugView dbg;
   ReuseColor color;
-  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, RayCursor* cursor) const {
+  template <class Cursor>
+  RESTIR_HD RESTIR_FORCE_INLINE void run(int x, int y, Cursor cursor) const {
     spatial_pixel(rp, g, reservoirs, next, bridges, f, round, dbg, x, y, color, cursor);
   }
   RESTIR_HD RESTIR_FORCE_INLINE void operator()(int x, int y) const { run(x, y, nullptr); }

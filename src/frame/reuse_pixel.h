@@ -6,6 +6,7 @@
 // resampling to restir::combine() through the integrator's bridge, made per pixel from the
 // surfaces of the inputs (SurfaceList, index 0 = the canonical pixel) by make_bridge(surfaces, n, temporal).
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -117,17 +118,26 @@ RESTIR_HD bool add_debug_view(DebugView view, const restir::Reservoir<Sample>& r
   return true;
 }
 
-// cursor (both passes): a queued pass's producer or consumer run of the pixel (ray_slots.h); null:
-// its shadow rays traced inline.
+// cursor (both passes): a queued pass's producer or consumer run of the pixel (ray_slots.h), whose
+// bridge is make_bridge(surfaces, n, temporal, cursor); nullptr (a type of its own): the inline
+// pass, make_bridge(surfaces, n, temporal), its shadow rays traced by the pixel's thread.
+template <class MakeBridge>
+RESTIR_HD auto bridge_for(const MakeBridge& make_bridge, const SurfaceList& surfaces, int n, bool temporal, std::nullptr_t) {
+  return make_bridge(surfaces, n, temporal);
+}
+template <class MakeBridge>
+RESTIR_HD auto bridge_for(const MakeBridge& make_bridge, const SurfaceList& surfaces, int n, bool temporal, RayCursor* cursor) {
+  return make_bridge(surfaces, n, temporal, cursor);
+}
 
 // Temporal reuse at pixel (x, y): its reservoir combined with last frame's final reservoir at the
 // reprojected pixel (if that surface is similar), the history's confidence capped (M-cap), into next.
 // history_caps: per previous-frame pixel, the M-cap the duplication map set (null: rp.max_history).
-template <class Res, class MakeBridge>
+template <class Res, class MakeBridge, class Cursor = std::nullptr_t>
 RESTIR_HD RESTIR_FORCE_INLINE void temporal_pixel(const ReuseOptions& rp, const GBufferView& g, const GBufferView& previous_g,
                               const PerspectiveCamera& previous_camera, const Res* reservoirs, const Res* history, Res* next,
                               const MakeBridge& make_bridge, const ReuseFrame& f, const ReuseDebugView& dbg, int x, int y,
-                              const float* history_caps = nullptr, RayCursor* cursor = nullptr) {
+                              const float* history_caps = nullptr, Cursor cursor = nullptr) {
   const uint32_t p = uint32_t(y * g.width + x);
   const GSurface cur = g.at(x, y);
   next[p] = reservoirs[p];
@@ -155,7 +165,7 @@ RESTIR_HD RESTIR_FORCE_INLINE void temporal_pixel(const ReuseOptions& rp, const 
   hist.confidence = restir::capped_confidence(hist.confidence, reservoirs[p].confidence, cap);
   const GPacked* packed[2] = {nullptr, &prev};
   const Res* inputs[2] = {&reservoirs[p], &hist};
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true, cursor);
+  auto bridge = bridge_for(make_bridge, SurfaceList{&cur, packed, g.materials, previous_g.eye}, 2, true, cursor);
   Pcg32 rng = make_rng(p, f.frame, RngPass::temporal, f.seed, f.chain);
   restir::CombineInfo info;
   next[p] = restir::combine(bridge, std::span<const Res* const>(inputs, 2), reuse_weights(rp.temporal_mis, rp, f), rng, &info);
@@ -194,10 +204,10 @@ inline void prefetch_neighbours(const GBufferView& g, const Res* reservoirs, int
 
 // Spatial reuse round `round` at pixel (x, y): its reservoir combined with those of up to
 // spatial_neighbors pixels on a rotated golden-angle spiral within spatial_radius, into next.
-template <class Res, class MakeBridge>
+template <class Res, class MakeBridge, class Cursor = std::nullptr_t>
 RESTIR_HD RESTIR_FORCE_INLINE void spatial_pixel(const ReuseOptions& rp, const GBufferView& g, const Res* reservoirs, Res* next, const MakeBridge& make_bridge,
                              const ReuseFrame& f, int round, const ReuseDebugView& dbg, int x, int y, const ReuseColor& color = {},
-                             RayCursor* cursor = nullptr) {
+                             Cursor cursor = nullptr) {
   const int w = g.width, h = g.height;
   const int k = rp.spatial_neighbors < kMaxReuseNeighbors ? rp.spatial_neighbors : kMaxReuseNeighbors;
   const uint32_t p = uint32_t(y * w + x);
@@ -239,7 +249,7 @@ RESTIR_HD RESTIR_FORCE_INLINE void spatial_pixel(const ReuseOptions& rp, const G
     inputs[n] = &reservoirs[size_t(ny * w + nx)];
     ++n;
   }
-  auto bridge = make_bridge(SurfaceList{&cur, packed, g.materials, g.eye}, n, false, cursor);
+  auto bridge = bridge_for(make_bridge, SurfaceList{&cur, packed, g.materials, g.eye}, n, false, cursor);
   restir::CombineInfo info;
   info.want_color = color.out != nullptr;
   info.color_input_target = color.planted_input_target;

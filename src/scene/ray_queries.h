@@ -32,12 +32,12 @@ RESTIR_HD inline bool ray_queryable(const Ray& r) {
 
 // Ray leaving p (with geometric normal ng) in direction d, offset to the side d points to, so it
 // does not re-hit the surface it starts on.
-RESTIR_HD inline Ray spawn_ray(Vec3 p, Vec3 ng, Vec3 d, float eps) {
+RESTIR_ALWAYS_INLINE RESTIR_HD inline Ray spawn_ray(Vec3 p, Vec3 ng, Vec3 d, float eps) {
   Vec3 off = ng * (dot(d, ng) >= 0 ? eps : -eps);
   return Ray{p + off, d, 0.0f, kInfinity};
 }
 // Shadow ray from p to the point q (with normal nq, zero for points/env), offsetting both ends.
-RESTIR_HD inline Ray spawn_ray_to(Vec3 p, Vec3 ng, Vec3 q, Vec3 nq, float eps) {
+RESTIR_ALWAYS_INLINE RESTIR_HD inline Ray spawn_ray_to(Vec3 p, Vec3 ng, Vec3 q, Vec3 nq, float eps) {
   Vec3 d0 = q - p;
   Vec3 o = p + ng * (dot(d0, ng) >= 0 ? eps : -eps);
   Vec3 target = q + nq * (dot(o - q, nq) >= 0 ? eps : -eps);

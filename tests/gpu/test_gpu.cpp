@@ -368,6 +368,24 @@ TEST_CASE("restir-pt: replay compaction of paired reuse on the CPU and CUDA agre
   }
 }
 
+// The reuse passes' shadow rays queued (render.reuse_rays = queued, frame/ray_slots.h): the
+// producer, select, trace and consumer kernels on the device render what the CPU renders inline
+// (on the host the two settings give the same image bit for bit: tests/frame/test_queued_rays.cpp).
+TEST_CASE("render.reuse_rays = queued: restir-di, restir-gi and restir-pt on the CUDA backend agree with the CPU (16 seeds stacked)") {
+  for (const auto& [scene_name, integrator] : {std::pair{"many-lights.pbrt", "integrator=restir-di"}, std::pair{"teapot.pbrt", "integrator=restir-gi"},
+                                               std::pair{"teapot.pbrt", "integrator=restir-pt"}}) {
+    const std::string name = scene_name, which = integrator;
+    CAPTURE(name);
+    CAPTURE(which);
+    Scene scene = load_scene(own_scene(name));
+    Options o = only_read_keys(options_for(scene, {integrator, "film.width=128", "film.height=96", "render.spp=4", "render.frames=3",
+                                                   "path.max_depth=5", "path.russian_roulette=false"}));
+    const Image cpu = frames_stacked(scene, o, g_seeds, Backend::cpu);
+    o.render.reuse_rays = ReuseRays::queued;
+    check_agree(cpu, frames_stacked(scene, o, g_seeds, gpu_backend()), blocks_comparable(name));
+  }
+}
+
 // The compressed 8-wide BVH (render.bvh = wide) under whole frames: ReSTIR PT hybrid on the
 // teapots and ReSTIR DI on many-lights (spheres, 2400 emitters) on the device as on the CPU.
 TEST_CASE("render.bvh = wide: restir-pt and restir-di on the CPU and CUDA agree (16 seeds stacked)") {

@@ -287,12 +287,14 @@ RESTIR_HD inline Rgb di_specular(const PathWorld& w, const Tracer& tracer, const
 template <class Tracer>
 struct DiBridges;
 
-template <class Tracer>
+// Queued: the bridge of a queued reuse pass (ray_slots.h), whose shadow rays go through cursor; the
+// inline pass's bridge (false) is a type of its own, so its code is what it was before queues.
+template <class Tracer, bool Queued = false>
 struct DiBridge {
   const DiBridges<Tracer>* b;
   SurfaceList surfaces;  // surfaces[i] = domain i's surface, 0 = canonical
   bool temporal;                    // domain 1 is the previous frame
-  RayCursor* cursor;                // a queued pass's slots (ray_slots.h); null: inline
+  RayCursor* cursor;                // Queued: the pixel's slots
   RESTIR_HD bool history_lights() const { return temporal && b->fw.has_previous_lights; }
   RESTIR_HD bool history_scene() const { return temporal && b->fw.has_previous && !b->history_visibility_now; }
   RESTIR_HD bool shift_to_canonical(int i, const LightPoint& y, LightPoint& x, float& jacobian) const {
@@ -318,20 +320,24 @@ struct DiBridge {
   }
   RESTIR_HD float target_from(int i, const LightPoint& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
-    const SlotTracer<Tracer> tracer{&fw.tracer, cursor};
     const bool lights = history_lights(), scene = history_scene();
     if (i == 1 && b->history_in_previous && (lights || scene)) {
       LightPoint back = x;  // where x was one frame earlier
       Vec3 normal;
       if (lights && !fw.previous_lights.follow(x.emitter, fw.world.lights, back.position, normal)) return 0;
       const LightsView& then = lights ? fw.previous_lights : fw.world.lights;
-      if (scene)  // not queued: the queue holds this frame's rays
-        return di_target(then, fw.previous_world.ray_epsilon, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, surfaces[1], back,
-                         b->other_visibility);
-      return di_target(then, fw.world.ray_epsilon, tracer, surfaces[1], back, b->other_visibility);
+      if (scene) {  // not queued: the queue holds this frame's rays (one tracer type a bridge type, for nvcc's inlining)
+        if constexpr (Queued)
+          return di_target(then, fw.previous_world.ray_epsilon, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, surfaces[1], back,
+                           b->other_visibility);
+        else return di_target(then, fw.previous_world.ray_epsilon, fw.previous_tracer, surfaces[1], back, b->other_visibility);
+      }
+      if constexpr (Queued) return di_target(then, fw.world.ray_epsilon, SlotTracer<Tracer>{&fw.tracer, cursor}, surfaces[1], back, b->other_visibility);
+      else return di_target(then, fw.world.ray_epsilon, fw.tracer, surfaces[1], back, b->other_visibility);
     }
-    return di_target(fw.world.lights, fw.world.ray_epsilon, tracer, surfaces[i], x,
-                        i == 0 ? b->canonical_visibility : b->other_visibility);
+    const bool visibility = i == 0 ? b->canonical_visibility : b->other_visibility;
+    if constexpr (Queued) return di_target(fw.world.lights, fw.world.ray_epsilon, SlotTracer<Tracer>{&fw.tracer, cursor}, surfaces[i], x, visibility);
+    else return di_target(fw.world.lights, fw.world.ray_epsilon, fw.tracer, surfaces[i], x, visibility);
   }
 };
 
@@ -343,7 +349,8 @@ struct DiBridges {
   bool other_visibility;        // other domains' targets include visibility (... and di.neighbor_visibility)
   bool history_in_previous;     // di.history_scene = previous
   bool history_visibility_now;  // a planted bias (planted_bias.h): the history's visibility in this frame's BVH
-  RESTIR_HD DiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor = nullptr) const {
+  RESTIR_HD DiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const { return {this, surfaces, temporal, nullptr}; }
+  RESTIR_HD DiBridge<Tracer, true> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor) const {
     return {this, surfaces, temporal, cursor};
   }
 };

@@ -106,12 +106,13 @@ RESTIR_HD GiSample gi_replayed(const PathWorld& w, const Tracer& tracer, const P
 template <class Tracer>
 struct GiBridges;
 
-template <class Tracer>
+// Queued: the bridge of a queued reuse pass (ray_slots.h; see DiBridge).
+template <class Tracer, bool Queued = false>
 struct GiBridge {
   const GiBridges<Tracer>* b;
   SurfaceList surfaces;  // surfaces[i] = domain i's visible point, 0 = canonical
   bool temporal;
-  RayCursor* cursor;  // a queued pass's slots (ray_slots.h); null: inline
+  RayCursor* cursor;  // Queued: the pixel's slots
   // Domain 1 is another frame's, replayed across the frames (an animated scene's history).
   RESTIR_HD bool across_frames() const { return temporal && b->fw.has_previous && b->replay_history; }
   // Another domain's stored target is p̂_i(y) at its own visible point, visibility included, and
@@ -123,7 +124,9 @@ struct GiBridge {
   RESTIR_HD bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      x = gi_replayed(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->path, surfaces[0], gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
+      const GiSample carried = gi_carried(fw.world.scene, fw.forward, fw.animation_count, y);
+      if constexpr (Queued) x = gi_replayed(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->path, surfaces[0], carried);
+      else x = gi_replayed(fw.world, fw.tracer, b->path, surfaces[0], carried);
       jacobian = x.infinite ? 1.0f
                             : restir::moved_reconnection_jacobian(surfaces.point(1), y.position, y.normal, surfaces.point(0), x.position,
                                                                   x.normal);
@@ -136,15 +139,25 @@ struct GiBridge {
   RESTIR_HD float target_from(int i, const GiSample& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      const SlotTracer<Tracer> previous{&fw.previous_tracer, nullptr};  // not queued: the queue holds this frame's rays
-      const GiSample back = gi_replayed(fw.previous_world, previous, b->path, surfaces[1],
-                                        gi_carried(fw.world.scene, fw.back, fw.animation_count, x));
-      const float t = gi_target(fw.previous_world, previous, b->kind, surfaces[1], back, false);  // visibility: in gi_replayed
+      // Not queued: the queue holds this frame's rays (one tracer type a bridge type, for nvcc's inlining).
+      const GiSample carried = gi_carried(fw.world.scene, fw.back, fw.animation_count, x);
+      GiSample back;
+      float t;  // visibility: in gi_replayed
+      if constexpr (Queued) {
+        const SlotTracer<Tracer> previous{&fw.previous_tracer, nullptr};
+        back = gi_replayed(fw.previous_world, previous, b->path, surfaces[1], carried);
+        t = gi_target(fw.previous_world, previous, b->kind, surfaces[1], back, false);
+      } else {
+        back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, surfaces[1], carried);
+        t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, surfaces[1], back, false);
+      }
       return x.infinite ? t
                         : t * restir::moved_reconnection_jacobian(surfaces.point(0), x.position, x.normal, surfaces.point(1), back.position,
                                                                   back.normal);
     }
-    const float t = gi_target(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->kind, surfaces[i], x, true);
+    float t;
+    if constexpr (Queued) t = gi_target(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->kind, surfaces[i], x, true);
+    else t = gi_target(fw.world, fw.tracer, b->kind, surfaces[i], x, true);
     return i == 0 ? t : t * gi_jacobian(x, surfaces.point(0), surfaces.point(i));
   }
 };
@@ -156,7 +169,8 @@ struct GiBridges {
   GiTarget kind;
   PathOptions path;     // the sample's path: path.max_depth - 1 bounces
   bool replay_history;  // false: a planted bias (planted_bias.h) keeps an animated history's cached radiance
-  RESTIR_HD GiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor = nullptr) const {
+  RESTIR_HD GiBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const { return {this, surfaces, temporal, nullptr}; }
+  RESTIR_HD GiBridge<Tracer, true> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor) const {
     return {this, surfaces, temporal, cursor};
   }
 };

@@ -50,7 +50,8 @@ bool shift_path(const PathWorld& world, const EmbreeTracer& tracer, const PathSe
 template <class Tracer>
 struct PtBridges;
 
-template <class Tracer>
+// Queued: the bridge of a queued reuse pass (ray_slots.h; see DiBridge).
+template <class Tracer, bool Queued = false>
 struct PtBridge {
   const PtBridges<Tracer>* b;
   SurfaceList surfaces;  // surfaces[i] = domain i's primary surface, 0 = canonical
@@ -58,7 +59,7 @@ struct PtBridge {
   // Domain 1 is last frame's pixel evaluated in this frame's scene (pt.history_scene = current in an
   // animated scene): its stored target was computed in the other scene.
   bool history_in_other_scene;
-  RayCursor* cursor;                // a queued pass's slots (ray_slots.h); null: inline
+  RayCursor* cursor;                // Queued: the pixel's slots
   mutable int shifting = 0;         // the input combine() is weighing (for planted biases only)
   // Another domain's stored target is p̂_i of its own sample y, computed at its own primary hit in
   // the scene it was made in (an animated history's too, as long as each domain's target is
@@ -74,10 +75,13 @@ struct PtBridge {
   }
   RESTIR_HD bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
-    // The previous frame's rays are not queued (the queue holds this frame's); the same tracer type
-    // keeps one instantiation of the shifts.
-    if (i == 1 && history) return shift_path(fw.previous_world, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, b->ps, x, to, y, jacobian);
-    return shift_path(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->ps, x, to, y, jacobian);
+    // The previous frame's rays are not queued (the queue holds this frame's).
+    if (i == 1 && history) {  // one tracer type a bridge type, for nvcc's inlining
+      if constexpr (Queued) return shift_path(fw.previous_world, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, b->ps, x, to, y, jacobian);
+      else return shift_path(fw.previous_world, fw.previous_tracer, b->ps, x, to, y, jacobian);
+    }
+    if constexpr (Queued) return shift_path(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->ps, x, to, y, jacobian);
+    else return shift_path(fw.world, fw.tracer, b->ps, x, to, y, jacobian);
   }
   RESTIR_HD bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
@@ -124,11 +128,14 @@ struct PtBridges {
   bool planted_on;
   // pt.replay_compaction: paired reuse makes the shifts that replay in a pass of their own.
   bool compact_replays() const { return ps.pt.replay_compaction; }
-  RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor = nullptr) const {
-    // pt.history_scene = current evaluates the history in this frame's scene even where the
-    // previous one is kept (for pt.direct = restir-di's ReSTIR DI).
-    const bool past = temporal && fw.has_previous && history_in_previous;
-    return {this, surfaces, past, temporal && !past && fw.animated, cursor};
+  // pt.history_scene = current evaluates the history in this frame's scene even where the previous
+  // one is kept (for pt.direct = restir-di's ReSTIR DI).
+  RESTIR_HD bool past(bool temporal) const { return temporal && fw.has_previous && history_in_previous; }
+  RESTIR_HD PtBridge<Tracer> operator()(const SurfaceList& surfaces, int, bool temporal) const {
+    return {this, surfaces, past(temporal), temporal && !past(temporal) && fw.animated, nullptr};
+  }
+  RESTIR_HD PtBridge<Tracer, true> operator()(const SurfaceList& surfaces, int, bool temporal, RayCursor* cursor) const {
+    return {this, surfaces, past(temporal), temporal && !past(temporal) && fw.animated, cursor};
   }
 };
 
