@@ -174,6 +174,7 @@ class PyRenderer {
       nb::dict e;
       e["closest"] = c.closest;
       e["any"] = c.any;
+      e["queued"] = c.queued;  // of the any-hit ones, those a queued reuse pass traced in one stage (render.reuse_rays)
       return e;
     };
     for (const auto& [name, c] : stages_.rays) d[name.c_str()] = entry(c);
@@ -289,7 +290,8 @@ void bind_renderer(nb::module_& m) {
       .def("denoised", &PyRenderer::denoised, "The last frame after denoise.method (a copy), or None when it is none.")
       .def("stage_times", &PyRenderer::stage_times, "Wall time (ms) of each stage of the last frame.")
       .def("ray_counts", &PyRenderer::ray_counts,
-           "Rays each stage of the last frame traced: {stage: {'closest': n, 'any': n}}, and 'frame' for all of them "
+           "Rays each stage of the last frame traced: {stage: {'closest': n, 'any': n, 'queued': n}} ('queued': of the any-hit "
+           "rays, those render.reuse_rays=queued traced in one stage), and 'frame' for all of them "
            "(divide by film.width * film.height for rays per pixel).")
       .def("options", &PyRenderer::options, "Every option's value as text, as `restir render` echoes them.")
       .def("camera", &PyRenderer::camera_at, nb::arg("frame"), "The scene's camera (path) at a frame of the sequence.")

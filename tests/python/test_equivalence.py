@@ -38,7 +38,7 @@ def test_frames_equal_cli_sequence(rl, tmp_path, scene, integrator, frames, sets
     # The rays each stage traced: the sidecar's counts of the CLI's last frame.
     side = json.loads(out.with_suffix(".json").read_text())
     counts = r.ray_counts()
-    assert counts.pop("frame") == {k: sum(s[k] for s in side["stage_rays"][-1].values()) for k in ("closest", "any")}
+    assert counts.pop("frame") == {k: sum(s[k] for s in side["stage_rays"][-1].values()) for k in ("closest", "any", "queued")}
     assert counts == side["stage_rays"][-1] and counts["primary"]["closest"] == 48 * 32
 
 
