@@ -96,6 +96,15 @@ struct SlotTracer {
   RESTIR_HD bool intersect(const Ray& r, Hit& hit) const { return inner->intersect(r, hit); }
 };
 
+// The tracer a bridge hands its shifts and targets: a queued pass's bridge (Queued) a SlotTracer
+// through cursor (null: not queued, as for the previous frame's rays), an inline pass's the tracer
+// itself. One tracer type per bridge type keeps nvcc's inlining of each as it was.
+template <bool Queued, class Tracer>
+RESTIR_HD decltype(auto) pass_tracer(const Tracer& tracer, RayCursor* cursor) {
+  if constexpr (Queued) return SlotTracer<Tracer>{&tracer, cursor};
+  else return (tracer);
+}
+
 // The trace stage: slot list[i]'s ray, its answer.
 template <class Tracer>
 struct TraceSlotsStage {

@@ -326,18 +326,13 @@ struct DiBridge {
       Vec3 normal;
       if (lights && !fw.previous_lights.follow(x.emitter, fw.world.lights, back.position, normal)) return 0;
       const LightsView& then = lights ? fw.previous_lights : fw.world.lights;
-      if (scene) {  // not queued: the queue holds this frame's rays (one tracer type a bridge type, for nvcc's inlining)
-        if constexpr (Queued)
-          return di_target(then, fw.previous_world.ray_epsilon, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, surfaces[1], back,
-                           b->other_visibility);
-        else return di_target(then, fw.previous_world.ray_epsilon, fw.previous_tracer, surfaces[1], back, b->other_visibility);
-      }
-      if constexpr (Queued) return di_target(then, fw.world.ray_epsilon, SlotTracer<Tracer>{&fw.tracer, cursor}, surfaces[1], back, b->other_visibility);
-      else return di_target(then, fw.world.ray_epsilon, fw.tracer, surfaces[1], back, b->other_visibility);
+      if (scene)  // not queued: the queue holds this frame's rays
+        return di_target(then, fw.previous_world.ray_epsilon, pass_tracer<Queued>(fw.previous_tracer, nullptr), surfaces[1], back,
+                         b->other_visibility);
+      return di_target(then, fw.world.ray_epsilon, pass_tracer<Queued>(fw.tracer, cursor), surfaces[1], back, b->other_visibility);
     }
-    const bool visibility = i == 0 ? b->canonical_visibility : b->other_visibility;
-    if constexpr (Queued) return di_target(fw.world.lights, fw.world.ray_epsilon, SlotTracer<Tracer>{&fw.tracer, cursor}, surfaces[i], x, visibility);
-    else return di_target(fw.world.lights, fw.world.ray_epsilon, fw.tracer, surfaces[i], x, visibility);
+    return di_target(fw.world.lights, fw.world.ray_epsilon, pass_tracer<Queued>(fw.tracer, cursor), surfaces[i], x,
+                     i == 0 ? b->canonical_visibility : b->other_visibility);
   }
 };
 

@@ -124,9 +124,8 @@ struct GiBridge {
   RESTIR_HD bool shift_to_canonical(int i, const GiSample& y, GiSample& x, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      const GiSample carried = gi_carried(fw.world.scene, fw.forward, fw.animation_count, y);
-      if constexpr (Queued) x = gi_replayed(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->path, surfaces[0], carried);
-      else x = gi_replayed(fw.world, fw.tracer, b->path, surfaces[0], carried);
+      x = gi_replayed(fw.world, pass_tracer<Queued>(fw.tracer, cursor), b->path, surfaces[0],
+                      gi_carried(fw.world.scene, fw.forward, fw.animation_count, y));
       jacobian = x.infinite ? 1.0f
                             : restir::moved_reconnection_jacobian(surfaces.point(1), y.position, y.normal, surfaces.point(0), x.position,
                                                                   x.normal);
@@ -139,25 +138,15 @@ struct GiBridge {
   RESTIR_HD float target_from(int i, const GiSample& x) const {
     const FrameWorld<Tracer>& fw = b->fw;
     if (i == 1 && across_frames()) {
-      // Not queued: the queue holds this frame's rays (one tracer type a bridge type, for nvcc's inlining).
-      const GiSample carried = gi_carried(fw.world.scene, fw.back, fw.animation_count, x);
-      GiSample back;
-      float t;  // visibility: in gi_replayed
-      if constexpr (Queued) {
-        const SlotTracer<Tracer> previous{&fw.previous_tracer, nullptr};
-        back = gi_replayed(fw.previous_world, previous, b->path, surfaces[1], carried);
-        t = gi_target(fw.previous_world, previous, b->kind, surfaces[1], back, false);
-      } else {
-        back = gi_replayed(fw.previous_world, fw.previous_tracer, b->path, surfaces[1], carried);
-        t = gi_target(fw.previous_world, fw.previous_tracer, b->kind, surfaces[1], back, false);
-      }
+      const auto& previous = pass_tracer<Queued>(fw.previous_tracer, nullptr);  // not queued: the queue holds this frame's rays
+      const GiSample back = gi_replayed(fw.previous_world, previous, b->path, surfaces[1],
+                                        gi_carried(fw.world.scene, fw.back, fw.animation_count, x));
+      const float t = gi_target(fw.previous_world, previous, b->kind, surfaces[1], back, false);  // visibility: in gi_replayed
       return x.infinite ? t
                         : t * restir::moved_reconnection_jacobian(surfaces.point(0), x.position, x.normal, surfaces.point(1), back.position,
                                                                   back.normal);
     }
-    float t;
-    if constexpr (Queued) t = gi_target(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->kind, surfaces[i], x, true);
-    else t = gi_target(fw.world, fw.tracer, b->kind, surfaces[i], x, true);
+    const float t = gi_target(fw.world, pass_tracer<Queued>(fw.tracer, cursor), b->kind, surfaces[i], x, true);
     return i == 0 ? t : t * gi_jacobian(x, surfaces.point(0), surfaces.point(i));
   }
 };

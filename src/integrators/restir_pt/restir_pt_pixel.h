@@ -76,12 +76,8 @@ struct PtBridge {
   RESTIR_HD bool shift_in(int i, const PathSample& x, const GSurface& to, PathSample& y, float& jacobian) const {
     const FrameWorld<Tracer>& fw = b->fw;
     // The previous frame's rays are not queued (the queue holds this frame's).
-    if (i == 1 && history) {  // one tracer type a bridge type, for nvcc's inlining
-      if constexpr (Queued) return shift_path(fw.previous_world, SlotTracer<Tracer>{&fw.previous_tracer, nullptr}, b->ps, x, to, y, jacobian);
-      else return shift_path(fw.previous_world, fw.previous_tracer, b->ps, x, to, y, jacobian);
-    }
-    if constexpr (Queued) return shift_path(fw.world, SlotTracer<Tracer>{&fw.tracer, cursor}, b->ps, x, to, y, jacobian);
-    else return shift_path(fw.world, fw.tracer, b->ps, x, to, y, jacobian);
+    if (i == 1 && history) return shift_path(fw.previous_world, pass_tracer<Queued>(fw.previous_tracer, nullptr), b->ps, x, to, y, jacobian);
+    return shift_path(fw.world, pass_tracer<Queued>(fw.tracer, cursor), b->ps, x, to, y, jacobian);
   }
   RESTIR_HD bool shift_to_canonical(int i, const PathSample& y, PathSample& x, float& jacobian) const {
     shifting = i;
